@@ -1,0 +1,30 @@
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+
+.PHONY: install test match bench clean distclean
+
+install: $(STAMP)
+
+# Creates the virtualenv if it is missing; re-installs whenever pyproject.toml changes.
+$(STAMP): pyproject.toml
+	test -x $(PY) || python3 -m venv $(VENV)
+	$(PY) -m pip install --upgrade pip
+	$(PY) -m pip install -e '.[test]'
+	touch $@
+
+test: install
+	$(PY) -m pytest
+
+match: install
+	$(VENV)/bin/robotstadium world-demo --out out/world-demo
+
+bench: install
+	$(VENV)/bin/robotstadium bench --out out/bench
+
+clean:
+	rm -rf out build .pytest_cache .hypothesis .import_linter_cache *.egg-info
+	find . -path ./$(VENV) -prune -o -name __pycache__ -type d -exec rm -rf {} +
+
+distclean: clean
+	rm -rf $(VENV)

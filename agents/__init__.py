@@ -1,0 +1,1 @@
+"""Team agents that run on the robot and know only what their observations show."""

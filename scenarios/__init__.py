@@ -1,0 +1,1 @@
+"""Scenario definitions, batch runs, statistics and plots."""

@@ -1,0 +1,78 @@
+"""Configuration of a world, as frozen dataclasses with factory defaults."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from dataclasses import field as default
+
+from world.field import FIELD, FieldGeometry
+from world.locomotion import BalanceConfig
+from world.motions import MotionNoise, WalkLimits
+from world.robot_model import TeamColor
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """One robot of the world: its id (any string) and its waistband colour."""
+
+    robot_id: str
+    team: TeamColor
+
+
+@dataclass(frozen=True)
+class PhysicsConfig:
+    control_step_s: float = 0.04  # one RobotStadium step
+    substeps: int = 10
+    solver_iterations: int = 30
+
+    @property
+    def substep_s(self) -> float:
+        return self.control_step_s / self.substeps
+
+
+@dataclass(frozen=True)
+class BallConfig:
+    """Ball contact parameters, tuned so a 1.5 m/s ball rolls about 3 m on the carpet."""
+
+    rolling_friction: float = 0.0014
+    spinning_friction: float = 0.001
+    lateral_friction: float = 0.5
+    restitution: float = 0.5
+    linear_damping: float = 0.0
+
+
+@dataclass(frozen=True)
+class RenderConfig:
+    """TinyRenderer lighting; flat-ish light keeps colours stable for segmentation."""
+
+    light_direction: tuple[float, float, float] = (0.4, -0.3, 1.0)
+    ambient: float = 0.65
+    diffuse: float = 0.35
+    specular: float = 0.0
+    near_m: float = 0.01
+    far_m: float = 20.0
+
+
+@dataclass(frozen=True)
+class SonarConfig:
+    """Four sonars (Nao: 0.25-2.55 m); upper pair at the chest, lower pair at the hips."""
+
+    min_range_m: float = 0.25
+    max_range_m: float = 2.55
+    yaw_rad: float = math.radians(20.0)
+    upper_height_m: float = 0.40
+    lower_height_m: float = 0.20
+
+
+@dataclass(frozen=True)
+class WorldConfig:
+    field: FieldGeometry = FIELD
+    physics: PhysicsConfig = default(default_factory=PhysicsConfig)
+    ball: BallConfig = default(default_factory=BallConfig)
+    balance: BalanceConfig = default(default_factory=BalanceConfig)
+    motion_noise: MotionNoise = default(default_factory=MotionNoise)
+    walk_limits: WalkLimits = default(default_factory=WalkLimits)
+    render: RenderConfig = default(default_factory=RenderConfig)
+    sonar: SonarConfig = default(default_factory=SonarConfig)
+    off_world_margin_m: float = 1.0  # placements may reach this far beyond the carpet

@@ -1,0 +1,109 @@
+"""What a robot's own sensors read: the proprioceptive part of an observation."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pybullet as pb
+
+from world.camera_model import CameraPosition
+from world.config import SonarConfig
+from world.locomotion import MotionStatus
+from world.robot_model import FEET, TORSO_CENTER_HEIGHT_M, Joint
+
+GRAVITY_MPS2 = 9.81
+
+
+@dataclass(frozen=True)
+class SensorReading:
+    """One robot's sensors after a control step (torso frame: x forward, y left, z up).
+
+    ``accelerometer_mps2`` is the specific force (acceleration minus gravity), so an upright
+    robot at rest reads about (0, 0, +9.81) and a robot lying on its back about (-9.81, 0, 0).
+    Sonars: upper-left, upper-right, lower-left, lower-right, in metres, ``max_range_m``
+    when nothing is in range. Bumpers: left foot (left, right), right foot (left, right).
+    """
+
+    head_yaw_rad: float
+    head_pitch_rad: float
+    camera: CameraPosition
+    accelerometer_mps2: tuple[float, float, float]
+    gyro_radps: tuple[float, float, float]
+    sonar_m: tuple[float, float, float, float]
+    bumpers: tuple[bool, bool, bool, bool]
+    motion: MotionStatus
+
+    @property
+    def fallen(self) -> bool:
+        return self.motion.fallen
+
+
+def torso_rotation(client: int, body: int) -> tuple[float, ...]:
+    _, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+    return pb.getMatrixFromQuaternion(orientation)
+
+
+def to_torso(m: tuple[float, ...], vector: tuple[float, float, float]) -> tuple[float, float, float]:
+    """Express a world vector in the torso frame (``m`` row-major torso->world rotation)."""
+    x, y, z = vector
+    return (m[0] * x + m[3] * y + m[6] * z, m[1] * x + m[4] * y + m[7] * z, m[2] * x + m[5] * y + m[8] * z)
+
+
+def sonar_rays(client: int, body: int, config: SonarConfig) -> list[tuple[tuple, tuple]]:
+    """The four rays (start, end) of one robot, starting just outside its torso."""
+    position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+    m = pb.getMatrixFromQuaternion(orientation)
+    rays = []
+    for height in (config.upper_height_m, config.lower_height_m):
+        for side in (1.0, -1.0):
+            yaw = side * config.yaw_rad
+            local_dir = (math.cos(yaw), math.sin(yaw), 0.0)
+            local_start = (0.06 * local_dir[0], 0.06 * local_dir[1] + side * 0.03, height - TORSO_CENTER_HEIGHT_M)
+            world_dir = _rotate(m, local_dir)
+            start = tuple(p + d for p, d in zip(position, _rotate(m, local_start)))
+            rays.append((start, tuple(s + config.max_range_m * d for s, d in zip(start, world_dir))))
+    return rays
+
+
+def _rotate(m: tuple[float, ...], v: tuple[float, float, float]) -> tuple[float, float, float]:
+    return (
+        m[0] * v[0] + m[1] * v[1] + m[2] * v[2],
+        m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
+        m[6] * v[0] + m[7] * v[1] + m[8] * v[2],
+    )
+
+
+def sonar_distances(hits, config: SonarConfig) -> tuple[float, ...]:
+    """Convert rayTestBatch results of one robot's four rays to clipped distances."""
+    out = []
+    for hit in hits:
+        if hit[0] < 0:
+            out.append(config.max_range_m)
+        else:
+            out.append(min(config.max_range_m, max(config.min_range_m, hit[2] * config.max_range_m)))
+    return tuple(out)
+
+
+def bumpers(client: int, body: int, ground_ids: tuple[int, ...]) -> tuple[bool, bool, bool, bool]:
+    """Foot bumpers: pressed by a contact on the front half of a foot with anything but the floor."""
+    pressed = []
+    for foot in FEET:
+        state = pb.getLinkState(body, int(foot), physicsClientId=client)
+        foot_position, foot_orientation = state[4], state[5]
+        m = pb.getMatrixFromQuaternion(foot_orientation)
+        left = right = False
+        for contact in pb.getContactPoints(bodyA=body, linkIndexA=int(foot), physicsClientId=client):
+            if contact[2] in ground_ids:
+                continue
+            rel = tuple(c - f for c, f in zip(contact[5], foot_position))
+            local = to_torso(m, rel)
+            if local[0] > 0.02:
+                left, right = left or local[1] >= 0.0, right or local[1] < 0.0
+        pressed += [left, right]
+    return tuple(pressed)
+
+
+def head_angles(client: int, body: int) -> tuple[float, float]:
+    states = pb.getJointStates(body, [int(Joint.HEAD_YAW), int(Joint.HEAD_PITCH)], physicsClientId=client)
+    return states[0][0], states[1][0]

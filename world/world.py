@@ -1,0 +1,389 @@
+"""The World: one pybullet client with the field, robots and ball, stepped in control steps.
+
+The world knows nothing of rules or agents. Anyone (the referee, scenarios, tests) can
+place robots and the ball; robots move only by playing motions. Ground truth (poses, ball)
+is available here for evaluation; a robot's own view is :meth:`World.sensors` and
+:meth:`World.render_camera`.
+"""
+
+from __future__ import annotations
+
+import copy
+import logging
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pybullet as pb
+
+from world import rendering
+from world.ball import BallState, build_ball
+from world.camera_model import NAO_CAMERA, CameraPosition
+from world.config import RobotSpec, WorldConfig
+from world.errors import InvalidCommandError, InvalidPoseError, JointLimitError, UnknownRobotError
+from world.field import Pose2D
+from world.gaits import STANDING
+from world.locomotion import LocomotionController, MotionStatus, head_limits_check
+from world.motions import Motion
+from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
+from world.scene import SceneBodies, build_scene
+from world.sensors import GRAVITY_MPS2, SensorReading, bumpers, head_angles, sonar_distances, sonar_rays, to_torso
+
+log = logging.getLogger(__name__)
+
+MAX_ROBOTS = 8
+
+
+@dataclass(frozen=True)
+class RobotTruth:
+    """Ground truth of one robot: torso pose on the field, torso height and tilt."""
+
+    pose: Pose2D
+    z_m: float
+    tilt_rad: float
+    fallen: bool
+    team: TeamColor
+
+
+@dataclass(frozen=True)
+class WorldSnapshot:
+    """A saved world: the pybullet state plus the controllers' and the world's own state."""
+
+    state_id: int
+    time_s: float
+    controllers: dict
+    teams: dict
+    last_toucher: tuple[str | None, float | None]
+    previous_velocity: dict
+    accelerations: dict
+    rng_state: dict
+
+
+class World:
+    """A field with up to eight robots and a ball, in its own pybullet client.
+
+    ``robots`` fixes the roster for the world's life (the scene is built once; reset
+    restores a saved state). ``seed`` seeds the generator of motion noise; pass a
+    ``numpy.random.Generator`` to :meth:`reset` to share a match's generator.
+    """
+
+    def __init__(
+        self,
+        robots: Sequence[RobotSpec],
+        config: WorldConfig | None = None,
+        *,
+        gui: bool = False,
+        seed: int = 0,
+    ):
+        self.config = config or WorldConfig()
+        ids = [spec.robot_id for spec in robots]
+        if len(ids) > MAX_ROBOTS or len(set(ids)) != len(ids):
+            raise ValueError(f"robots must be at most {MAX_ROBOTS} with unique ids; got {ids}")
+        self._client = pb.connect(pb.GUI if gui else pb.DIRECT)
+        if self._client < 0:
+            raise RuntimeError("could not connect to a pybullet physics server")
+        self._closed = False
+        try:
+            self._build(robots)
+        except Exception:
+            self.close()
+            raise
+        self.rng = np.random.default_rng(seed)
+        self._initial = self.save_state()
+
+    # ---- construction ---------------------------------------------------------------
+
+    def _build(self, robots: Sequence[RobotSpec]) -> None:
+        client, cfg = self._client, self.config
+        pb.setGravity(0.0, 0.0, -GRAVITY_MPS2, physicsClientId=client)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=cfg.physics.substep_s,
+            numSolverIterations=cfg.physics.solver_iterations,
+            deterministicOverlappingPairs=1,
+            physicsClientId=client,
+        )
+        self.scene: SceneBodies = build_scene(client, cfg.field)
+        self._ground_ids = (self.scene.ground, self.scene.carpet)
+        self._ball = build_ball(client, cfg.field, cfg.ball)
+        self._bodies: dict[str, int] = {}
+        self._teams: dict[str, TeamColor] = {}
+        self._controllers: dict[str, LocomotionController] = {}
+        for i, spec in enumerate(robots):
+            x = -2.0 + 0.5 * i
+            body = build_robot(client, spec.team, x, -2.3, math.pi / 2)
+            self._bodies[spec.robot_id] = body
+            self._teams[spec.robot_id] = spec.team
+            self._controllers[spec.robot_id] = LocomotionController(client, body, cfg.balance, cfg.motion_noise)
+            self._reset_joints(body)
+        self._robot_of_body = {body: rid for rid, body in self._bodies.items()}
+        self._projection = rendering.projection_matrix(NAO_CAMERA, cfg.render)
+        self.time_s = 0.0
+        self._last_toucher: tuple[str | None, float | None] = (None, None)
+        self._previous_velocity = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
+        self._accelerations = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
+        # Let the robots settle on their feet before the initial state is saved.
+        for _ in range(25):
+            self.step()
+        self.time_s = 0.0
+
+    # ---- lifecycle ------------------------------------------------------------------
+
+    @property
+    def client(self) -> int:
+        return self._client
+
+    @property
+    def robot_ids(self) -> tuple[str, ...]:
+        return tuple(self._bodies)
+
+    def body_id(self, robot_id: str) -> int:
+        return self._bodies[self._check_robot(robot_id)]
+
+    @property
+    def ball_body_id(self) -> int:
+        return self._ball
+
+    def reset(self, rng: np.random.Generator | int | None = None) -> None:
+        """Return to the state right after construction; reseed the motion noise if given."""
+        self.restore_state(self._initial)
+        if isinstance(rng, np.random.Generator):
+            self.rng = rng
+        elif rng is not None:
+            self.rng = np.random.default_rng(rng)
+
+    def save_state(self) -> WorldSnapshot:
+        controllers = {
+            rid: {k: copy.deepcopy(v) for k, v in vars(c).items() if k not in ("client", "body", "config", "noise")}
+            for rid, c in self._controllers.items()
+        }
+        return WorldSnapshot(
+            state_id=pb.saveState(physicsClientId=self._client),
+            time_s=self.time_s,
+            controllers=controllers,
+            teams=dict(self._teams),
+            last_toucher=self._last_toucher,
+            previous_velocity=dict(self._previous_velocity),
+            accelerations=dict(self._accelerations),
+            rng_state=copy.deepcopy(self.rng.bit_generator.state),
+        )
+
+    def restore_state(self, snapshot: WorldSnapshot) -> None:
+        pb.restoreState(stateId=snapshot.state_id, physicsClientId=self._client)
+        self.time_s = snapshot.time_s
+        for rid, fields in snapshot.controllers.items():
+            for key, value in fields.items():
+                setattr(self._controllers[rid], key, copy.deepcopy(value))
+        for rid, team in snapshot.teams.items():
+            self.set_team_color(rid, team)
+        self._last_toucher = snapshot.last_toucher
+        self._previous_velocity = dict(snapshot.previous_velocity)
+        self._accelerations = dict(snapshot.accelerations)
+        self.rng.bit_generator.state = copy.deepcopy(snapshot.rng_state)
+
+    def close(self) -> None:
+        if not self._closed:
+            self._closed = True
+            pb.disconnect(physicsClientId=self._client)
+
+    def __enter__(self) -> World:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __del__(self) -> None:  # a world left open must not leak its server
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: pybullet may already be gone
+            pass
+
+    # ---- placing things -------------------------------------------------------------
+
+    def place_robot(self, robot_id: str, pose: Pose2D) -> None:
+        """Put a robot standing upright at ``pose`` (field frame), at rest; clears its motion."""
+        body = self.body_id(robot_id)
+        self._check_position(f"robot {robot_id!r} pose", pose.x, pose.y, extra=(pose.theta,))
+        orientation = pb.getQuaternionFromEuler((0.0, 0.0, pose.theta))
+        pb.resetBasePositionAndOrientation(
+            body, (pose.x, pose.y, TORSO_CENTER_HEIGHT_M + 0.002), orientation, physicsClientId=self._client
+        )
+        pb.resetBaseVelocity(body, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), physicsClientId=self._client)
+        self._reset_joints(body)
+        controller = self._controllers[robot_id]
+        controller.reset()
+        controller.set_head(0.0, 0.0)
+        self._previous_velocity[robot_id] = (0.0, 0.0, 0.0)
+        self._accelerations[robot_id] = (0.0, 0.0, 0.0)
+
+    def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
+        """Put the ball on the ground at (x, y) with planar velocity (vx, vy) m/s."""
+        self._check_position("ball position", x, y, extra=(vx, vy))
+        r = self.config.field.ball_radius
+        pb.resetBasePositionAndOrientation(self._ball, (x, y, r), (0, 0, 0, 1), physicsClientId=self._client)
+        pb.resetBaseVelocity(self._ball, (vx, vy, 0.0), (-vy / r, vx / r, 0.0), physicsClientId=self._client)
+
+    def set_team_color(self, robot_id: str, team: TeamColor) -> None:
+        """Change a robot's waistband colour (teams swap colours at half-time)."""
+        body = self.body_id(robot_id)
+        if not isinstance(team, TeamColor):
+            raise InvalidCommandError(f"team colour {team!r} is not one of {[t.value for t in TeamColor]}")
+        self._teams[robot_id] = team
+        set_team_color(self._client, body, team)
+
+    # ---- commands ---------------------------------------------------------------------
+
+    def command_motion(self, robot_id: str, motion: Motion | str) -> bool:
+        """Start a predefined motion; False if refused (a fallen robot can only stand up).
+
+        Commanding the motion that is already playing lets it continue; another motion
+        interrupts it.
+        """
+        self._check_robot(robot_id)
+        parsed = Motion.parse(motion)
+        if parsed is Motion.WALK:
+            raise InvalidCommandError("motion 'walk' needs a velocity: use command_walk(robot_id, vx, vy, omega)")
+        return self._controllers[robot_id].start(parsed, self.time_s, self.rng)
+
+    def command_walk(self, robot_id: str, vx: float, vy: float, omega: float) -> bool:
+        """Walk continuously at (vx, vy) m/s in the torso frame, turning at ``omega`` rad/s."""
+        self._check_robot(robot_id)
+        self.config.walk_limits.check(vx, vy, omega)
+        return self._controllers[robot_id].start(Motion.WALK, self.time_s, self.rng, walk=(vx, vy, omega))
+
+    def set_head(self, robot_id: str, yaw_rad: float, pitch_rad: float) -> None:
+        """Head joint targets in radians (yaw CCW positive, pitch positive looks down)."""
+        self._check_robot(robot_id)
+        problem = head_limits_check(yaw_rad, pitch_rad)
+        if problem:
+            raise JointLimitError(f"robot {robot_id!r}: {problem}")
+        self._controllers[robot_id].set_head(yaw_rad, pitch_rad)
+
+    def set_camera(self, robot_id: str, camera: CameraPosition) -> None:
+        self._check_robot(robot_id)
+        if not isinstance(camera, CameraPosition):
+            raise InvalidCommandError(f"camera {camera!r} is not one of {[c.value for c in CameraPosition]}")
+        self._controllers[robot_id].camera = camera
+
+    # ---- time -------------------------------------------------------------------------
+
+    def step(self, control_steps: int = 1) -> None:
+        """Advance the simulation by whole control steps (40 ms each by default)."""
+        physics = self.config.physics
+        dt = physics.substep_s
+        client = self._client
+        for _ in range(control_steps):
+            for _ in range(physics.substeps):
+                for controller in self._controllers.values():
+                    controller.substep(self.time_s, dt)
+                pb.stepSimulation(physicsClientId=client)
+                self.time_s += dt
+                self._record_ball_touch()
+            self._update_accelerations(physics.control_step_s)
+
+    def _record_ball_touch(self) -> None:
+        for contact in pb.getContactPoints(bodyA=self._ball, physicsClientId=self._client):
+            robot = self._robot_of_body.get(contact[2])
+            if robot is not None:
+                self._last_toucher = (robot, self.time_s)
+
+    def _update_accelerations(self, dt: float) -> None:
+        for rid, body in self._bodies.items():
+            linear, _ = pb.getBaseVelocity(body, physicsClientId=self._client)
+            previous = self._previous_velocity[rid]
+            self._accelerations[rid] = tuple((a - b) / dt for a, b in zip(linear, previous))
+            self._previous_velocity[rid] = linear
+
+    # ---- what robots sense ----------------------------------------------------------
+
+    def render_camera(self, robot_id: str) -> np.ndarray:
+        """The robot's 160x120 RGB camera image (uint8, rows top to bottom)."""
+        controller = self._controllers[self._check_robot(robot_id)]
+        return rendering.render_robot_camera(
+            self._client, controller.body, controller.camera, self.config.render, self._projection
+        )
+
+    def sensors(self, robot_id: str) -> SensorReading:
+        return self.sensors_all((robot_id,))[robot_id]
+
+    def sensors_all(self, robot_ids: Sequence[str] | None = None) -> dict[str, SensorReading]:
+        """Sensor readings of several robots, with one batched ray test for all sonars."""
+        ids = list(self.robot_ids if robot_ids is None else [self._check_robot(r) for r in robot_ids])
+        client = self._client
+        rays = [ray for rid in ids for ray in sonar_rays(client, self._bodies[rid], self.config.sonar)]
+        hits = pb.rayTestBatch([r[0] for r in rays], [r[1] for r in rays], physicsClientId=client) if rays else []
+        readings = {}
+        for i, rid in enumerate(ids):
+            body = self._bodies[rid]
+            controller = self._controllers[rid]
+            _, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+            m = pb.getMatrixFromQuaternion(orientation)
+            _, angular = pb.getBaseVelocity(body, physicsClientId=client)
+            ax, ay, az = self._accelerations[rid]
+            yaw, pitch = head_angles(client, body)
+            readings[rid] = SensorReading(
+                head_yaw_rad=yaw,
+                head_pitch_rad=pitch,
+                camera=controller.camera,
+                accelerometer_mps2=to_torso(m, (ax, ay, az + GRAVITY_MPS2)),
+                gyro_radps=to_torso(m, angular),
+                sonar_m=sonar_distances(hits[4 * i : 4 * i + 4], self.config.sonar),
+                bumpers=bumpers(client, body, self._ground_ids),
+                motion=controller.status(self.time_s),
+            )
+        return readings
+
+    def motion_status(self, robot_id: str) -> MotionStatus:
+        return self._controllers[self._check_robot(robot_id)].status(self.time_s)
+
+    def camera_pose(self, robot_id: str) -> tuple[np.ndarray, np.ndarray]:
+        """Ground-truth world pose of the robot's active camera (rotation cam->world, position)."""
+        controller = self._controllers[self._check_robot(robot_id)]
+        return rendering.camera_pose(self._client, controller.body, controller.camera)
+
+    # ---- ground truth ----------------------------------------------------------------
+
+    def robot_truth(self, robot_id: str) -> RobotTruth:
+        body = self.body_id(robot_id)
+        position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=self._client)
+        m = pb.getMatrixFromQuaternion(orientation)
+        return RobotTruth(
+            pose=Pose2D(position[0], position[1], math.atan2(m[3], m[0])),
+            z_m=position[2],
+            tilt_rad=math.acos(max(-1.0, min(1.0, m[8]))),
+            fallen=self._controllers[robot_id].fallen,
+            team=self._teams[robot_id],
+        )
+
+    def robot_pose(self, robot_id: str) -> Pose2D:
+        return self.robot_truth(robot_id).pose
+
+    def ball(self) -> BallState:
+        position, _ = pb.getBasePositionAndOrientation(self._ball, physicsClientId=self._client)
+        velocity, _ = pb.getBaseVelocity(self._ball, physicsClientId=self._client)
+        toucher, touch_time = self._last_toucher
+        return BallState(*position, *velocity, last_toucher=toucher, last_touch_time_s=touch_time)
+
+    def render_overview(self, **kwargs) -> np.ndarray:
+        """A broadcast view of the field (see :func:`world.rendering.render_overview`)."""
+        return rendering.render_overview(self._client, self.config.render, **kwargs)
+
+    # ---- checks ----------------------------------------------------------------------
+
+    def _check_robot(self, robot_id: str) -> str:
+        if robot_id not in self._bodies:
+            raise UnknownRobotError(robot_id, self.robot_ids)
+        return robot_id
+
+    def _check_position(self, what: str, x: float, y: float, extra: tuple[float, ...] = ()) -> None:
+        values = (x, y, *extra)
+        if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
+            raise InvalidPoseError(f"{what} {values!r} must be finite numbers")
+        field, margin = self.config.field, self.config.off_world_margin_m
+        hx, hy = field.carpet_half_length + margin, field.carpet_half_width + margin
+        if abs(x) > hx or abs(y) > hy:
+            raise InvalidPoseError(f"{what} (x={x}, y={y}) outside the world |x| <= {hx}, |y| <= {hy} m")
+
+    def _reset_joints(self, body: int) -> None:
+        for joint in ACTUATED_JOINTS:
+            pb.resetJointState(body, int(joint), STANDING.get(joint, 0.0), 0.0, physicsClientId=self._client)
