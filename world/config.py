@@ -23,8 +23,8 @@ class RobotSpec:
 @dataclass(frozen=True)
 class PhysicsConfig:
     control_step_s: float = 0.04  # one RobotStadium step
-    substeps: int = 10
-    solver_iterations: int = 30
+    substeps: int = 5
+    solver_iterations: int = 10
 
     @property
     def substep_s(self) -> float:

@@ -108,10 +108,14 @@ def _build_goal(client: int, field: FieldGeometry, color: GoalColor) -> int:
     pieces.append(((x_back, -post_y, bar_z), (x_back, post_y, bar_z), frame_r))
     pieces.append(((x_back, -post_y, frame_r), (x_back, post_y, frame_r), frame_r))
     frames = [_cylinder_between(a, b) for a, b, _ in pieces]
+    # Posts and crossbar are round; the thin back frame is made of boxes, which cost
+    # TinyRenderer 12 triangles each instead of a tessellated cylinder's many.
+    round_piece = [r == post_r for _, _, r in pieces]
     kwargs = dict(
-        shapeTypes=[pb.GEOM_CYLINDER] * len(pieces),
+        shapeTypes=[pb.GEOM_CYLINDER if rnd else pb.GEOM_BOX for rnd in round_piece],
         radii=[r for _, _, r in pieces],
         lengths=[f[2] for f in frames],
+        halfExtents=[(r, r, f[2] / 2) for (_, _, r), f in zip(pieces, frames)],
         physicsClientId=client,
     )
     positions = [f[0] for f in frames]
@@ -131,50 +135,73 @@ def _build_goal(client: int, field: FieldGeometry, color: GoalColor) -> int:
 
 
 def _build_surroundings(client: int, field: FieldGeometry) -> int:
-    """Floor around the carpet and the four walls of the hall (visual only)."""
+    """Floor around the carpet and the four walls of the hall, as one-sided quads.
+
+    Boxes would be drawn with their back faces too (TinyRenderer does not cull), doubling
+    the fill cost; the walls also collide, so a ball cannot leave the hall.
+    """
     hx, hy = field.carpet_half_length, field.carpet_half_width
-    gap = WALL_GAP_M
-    ox, oy = hx + gap, hy + gap
-    floor_z, floor_t = -0.002, 0.001
-    boxes = [  # (half extents, centre)
-        ((ox, gap / 2, floor_t), (0.0, hy + gap / 2, floor_z)),
-        ((ox, gap / 2, floor_t), (0.0, -hy - gap / 2, floor_z)),
-        ((gap / 2, hy, floor_t), (hx + gap / 2, 0.0, floor_z)),
-        ((gap / 2, hy, floor_t), (-hx - gap / 2, 0.0, floor_z)),
+    ox, oy = hx + WALL_GAP_M, hy + WALL_GAP_M
+    top = WALL_HEIGHT_M
+    floor_z = -0.002
+    floor = [  # four strips between the carpet edge and the walls, facing up
+        ((-ox, hy, floor_z), (ox, hy, floor_z), (ox, oy, floor_z), (-ox, oy, floor_z)),
+        ((-ox, -oy, floor_z), (ox, -oy, floor_z), (ox, -hy, floor_z), (-ox, -hy, floor_z)),
+        ((hx, -hy, floor_z), (ox, -hy, floor_z), (ox, hy, floor_z), (hx, hy, floor_z)),
+        ((-ox, -hy, floor_z), (-hx, -hy, floor_z), (-hx, hy, floor_z), (-ox, hy, floor_z)),
     ]
-    wall_t, wall_h = 0.05, WALL_HEIGHT_M / 2
-    boxes += [
-        ((ox, wall_t, wall_h), (0.0, oy + wall_t, wall_h)),
-        ((ox, wall_t, wall_h), (0.0, -oy - wall_t, wall_h)),
-        ((wall_t, oy, wall_h), (ox + wall_t, 0.0, wall_h)),
-        ((wall_t, oy, wall_h), (-ox - wall_t, 0.0, wall_h)),
+    walls = [  # facing the field
+        ((-ox, oy, 0.0), (ox, oy, 0.0), (ox, oy, top), (-ox, oy, top)),
+        ((ox, -oy, 0.0), (-ox, -oy, 0.0), (-ox, -oy, top), (ox, -oy, top)),
+        ((ox, oy, 0.0), (ox, -oy, 0.0), (ox, -oy, top), (ox, oy, top)),
+        ((-ox, -oy, 0.0), (-ox, oy, 0.0), (-ox, oy, top), (-ox, -oy, top)),
     ]
-    rgba = [FLOOR_RGBA] * 4 + [WALL_RGBA] * 4
-    return _static_boxes(client, boxes, rgba)
+    _static_quads(client, floor, FLOOR_RGBA)
+    wall_t = 0.05
+    collision = pb.createCollisionShapeArray(
+        shapeTypes=[pb.GEOM_BOX] * 4,
+        halfExtents=[(ox, wall_t, top / 2), (ox, wall_t, top / 2), (wall_t, oy, top / 2), (wall_t, oy, top / 2)],
+        collisionFramePositions=[(0, oy + wall_t, top / 2), (0, -oy - wall_t, top / 2), (ox + wall_t, 0, top / 2), (-ox - wall_t, 0, top / 2)],
+        physicsClientId=client,
+    )
+    return _static_quads(client, walls, WALL_RGBA, collision)
 
 
 def _build_banners(client: int, field: FieldGeometry) -> int:
     """Light advertising boards on the walls, which a camera can mistake for white."""
-    ox = field.carpet_half_length + WALL_GAP_M
-    oy = field.carpet_half_width + WALL_GAP_M
-    z = BANNER_BOTTOM_M + BANNER_HEIGHT_M / 2
-    t = 0.01
-    boxes = []
+    ox = field.carpet_half_length + WALL_GAP_M - 0.01
+    oy = field.carpet_half_width + WALL_GAP_M - 0.01
+    z0, z1 = BANNER_BOTTOM_M, BANNER_BOTTOM_M + BANNER_HEIGHT_M
+    quads = []
     for x in (-3.0, -1.0, 1.0, 3.0):
-        boxes.append(((0.7, t, BANNER_HEIGHT_M / 2), (x, oy - t, z)))
-        boxes.append(((0.7, t, BANNER_HEIGHT_M / 2), (x, -oy + t, z)))
+        quads.append(((x - 0.7, oy, z0), (x + 0.7, oy, z0), (x + 0.7, oy, z1), (x - 0.7, oy, z1)))
+        quads.append(((x + 0.7, -oy, z0), (x - 0.7, -oy, z0), (x - 0.7, -oy, z1), (x + 0.7, -oy, z1)))
     for y in (-2.2, 2.2):
-        boxes.append(((t, 0.8, BANNER_HEIGHT_M / 2), (ox - t, y, z)))
-        boxes.append(((t, 0.8, BANNER_HEIGHT_M / 2), (-ox + t, y, z)))
-    return _static_boxes(client, boxes, [BANNER_RGBA] * len(boxes))
+        quads.append(((ox, y + 0.8, z0), (ox, y - 0.8, z0), (ox, y - 0.8, z1), (ox, y + 0.8, z1)))
+        quads.append(((-ox, y - 0.8, z0), (-ox, y + 0.8, z0), (-ox, y + 0.8, z1), (-ox, y - 0.8, z1)))
+    return _static_quads(client, quads, BANNER_RGBA)
 
 
-def _static_boxes(client: int, boxes, rgba) -> int:
-    visual = pb.createVisualShapeArray(
-        shapeTypes=[pb.GEOM_BOX] * len(boxes),
-        halfExtents=[h for h, _ in boxes],
-        visualFramePositions=[c for _, c in boxes],
-        rgbaColors=list(rgba),
+def _static_quads(client: int, quads, rgba, collision: int = -1) -> int:
+    """One static body showing the given quads (corners counter-clockwise seen from the front)."""
+    vertices, normals, indices = [], [], []
+    for quad in quads:
+        a, b, c = quad[0], quad[1], quad[2]
+        u = [b[i] - a[i] for i in range(3)]
+        v = [c[i] - a[i] for i in range(3)]
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        length = math.sqrt(sum(x * x for x in n))
+        base = len(vertices)
+        vertices += list(quad)
+        normals += [tuple(x / length for x in n)] * 4
+        indices += [base, base + 1, base + 2, base, base + 2, base + 3]
+    visual = pb.createVisualShape(
+        pb.GEOM_MESH,
+        vertices=vertices,
+        indices=indices,
+        normals=normals,
+        uvs=[(0.0, 0.0)] * len(vertices),
+        rgbaColor=rgba,
         physicsClientId=client,
     )
-    return pb.createMultiBody(0, -1, visual, physicsClientId=client)
+    return pb.createMultiBody(0, collision, visual, physicsClientId=client)

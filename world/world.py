@@ -103,8 +103,8 @@ class World:
             deterministicOverlappingPairs=1,
             physicsClientId=client,
         )
-        self.scene: SceneBodies = build_scene(client, cfg.field)
-        self._ground_ids = (self.scene.ground, self.scene.carpet)
+        # Robots and ball first: TinyRenderer draws in creation order, so the carpet, drawn
+        # after them, fails the depth test behind them instead of being shaded twice.
         self._ball = build_ball(client, cfg.field, cfg.ball)
         self._bodies: dict[str, int] = {}
         self._teams: dict[str, TeamColor] = {}
@@ -116,6 +116,8 @@ class World:
             self._teams[spec.robot_id] = spec.team
             self._controllers[spec.robot_id] = LocomotionController(client, body, cfg.balance, cfg.motion_noise)
             self._reset_joints(body)
+        self.scene: SceneBodies = build_scene(client, cfg.field)
+        self._ground_ids = (self.scene.ground, self.scene.carpet)
         self._robot_of_body = {body: rid for rid, body in self._bodies.items()}
         self._projection = rendering.projection_matrix(NAO_CAMERA, cfg.render)
         self.time_s = 0.0
