@@ -35,7 +35,7 @@ class PhysicsConfig:
 class BallConfig:
     """Ball contact parameters, tuned so a 1.5 m/s ball rolls about 3 m on the carpet."""
 
-    rolling_friction: float = 0.0014
+    rolling_friction: float = 0.0021
     spinning_friction: float = 0.001
     lateral_friction: float = 0.5
     restitution: float = 0.5

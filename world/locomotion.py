@@ -3,7 +3,8 @@
 Each robot has one :class:`LocomotionController`. Every physics substep it reads the torso
 state and applies
 
-- a horizontal drive force that makes the torso follow a reference pose, integrated from
+- a horizontal drive force, applied at the ground below the torso where feet would grip,
+  that makes the torso follow a reference pose, integrated from
   the motion's *real* velocity (re-anchored at the actual pose when a push moves the robot
   further than ``reanchor_position_m``, so pushes are not undone);
 - a yaw torque that follows the reference heading the same way;
@@ -39,7 +40,7 @@ class BalanceConfig:
     fall_tilt_rad: float = math.radians(50.0)
     upright_kp: float = 90.0  # N m / rad
     upright_kd: float = 6.0  # N m s / rad
-    upright_torque_max_nm: float = 14.0
+    upright_torque_max_nm: float = 6.0
     drive_time_constant_s: float = 0.06
     drive_force_max_n: float = 40.0
     position_gain_per_s: float = 5.0
@@ -234,7 +235,10 @@ class LocomotionController:
         norm = math.hypot(fx, fy)
         if norm > cfg.drive_force_max_n:
             fx, fy = fx * cfg.drive_force_max_n / norm, fy * cfg.drive_force_max_n / norm
-        pb.applyExternalForce(self.body, -1, (fx, fy, 0.0), position, pb.WORLD_FRAME, physicsClientId=self.client)
+        # Applied at the ground below the torso, where feet would grip: a push at torso
+        # height then tips the robot as it would a real one.
+        grip = (position[0], position[1], 0.0)
+        pb.applyExternalForce(self.body, -1, (fx, fy, 0.0), grip, pb.WORLD_FRAME, physicsClientId=self.client)
         tz = cfg.yaw_inertia_kgm2 / cfg.drive_time_constant_s * (omega + cfg.heading_gain_per_s * eh - angular[2])
         self._yaw_torque = max(-cfg.yaw_torque_max_nm, min(cfg.yaw_torque_max_nm, tz))
 

@@ -20,7 +20,8 @@ class SensorReading:
     """One robot's sensors after a control step (torso frame: x forward, y left, z up).
 
     ``accelerometer_mps2`` is the specific force (acceleration minus gravity), so an upright
-    robot at rest reads about (0, 0, +9.81) and a robot lying on its back about (-9.81, 0, 0).
+    robot at rest reads about (0, 0, +9.81), one lying on its back about (+9.81, 0, 0) and
+    one lying on its front about (-9.81, 0, 0).
     Sonars: upper-left, upper-right, lower-left, lower-right, in metres, ``max_range_m``
     when nothing is in range. Bumpers: left foot (left, right), right foot (left, right).
     """
