@@ -56,11 +56,16 @@ class RenderConfig:
 
 @dataclass(frozen=True)
 class SonarConfig:
-    """Four sonars (Nao: 0.25-2.55 m); upper pair at the chest, lower pair at the hips."""
+    """Four sonars (Nao: 0.25-2.55 m); upper pair at the chest, lower pair at the hips.
+
+    Each sonar looks ``yaw_rad`` to its side and covers a cone, sampled by rays at
+    ``cone_offsets_rad`` around its axis.
+    """
 
     min_range_m: float = 0.25
     max_range_m: float = 2.55
     yaw_rad: float = math.radians(20.0)
+    cone_offsets_rad: tuple[float, ...] = (math.radians(-25.0), 0.0, math.radians(25.0))
     upper_height_m: float = 0.40
     lower_height_m: float = 0.20
 

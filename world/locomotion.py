@@ -318,8 +318,10 @@ class LocomotionController:
         self.active = None
         elapsed = max(0.0, now_s - active.start_time_s)
         played = elapsed if math.isinf(active.duration_s) else min(elapsed, active.duration_s)
-        vx, vy, omega = active.nominal_velocity
-        nominal = _integrate_body_velocity(vx, vy, omega, played)
+        if completed and active.motion is not Motion.WALK:
+            nominal = MOTION_SPECS[active.motion].nominal
+        else:
+            nominal = _integrate_body_velocity(*active.nominal_velocity, played)
         self.sequence += 1
         self.last_finished = FinishedMotion(active.motion, nominal, completed, now_s, self.sequence)
         self._anchor()

@@ -52,18 +52,22 @@ def to_torso(m: tuple[float, ...], vector: tuple[float, float, float]) -> tuple[
 
 
 def sonar_rays(client: int, body: int, config: SonarConfig) -> list[tuple[tuple, tuple]]:
-    """The four rays (start, end) of one robot, starting just outside its torso."""
+    """Rays (start, end) of one robot's four sonars, ``len(config.cone_offsets_rad)`` each.
+
+    Each sonar is a fan of rays across its cone, starting just outside the torso; the
+    sonar reads the nearest hit of its fan.
+    """
     position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
     m = pb.getMatrixFromQuaternion(orientation)
     rays = []
     for height in (config.upper_height_m, config.lower_height_m):
         for side in (1.0, -1.0):
-            yaw = side * config.yaw_rad
-            local_dir = (math.cos(yaw), math.sin(yaw), 0.0)
-            local_start = (0.06 * local_dir[0], 0.06 * local_dir[1] + side * 0.03, height - TORSO_CENTER_HEIGHT_M)
-            world_dir = _rotate(m, local_dir)
+            local_start = (0.06, side * 0.03, height - TORSO_CENTER_HEIGHT_M)
             start = tuple(p + d for p, d in zip(position, _rotate(m, local_start)))
-            rays.append((start, tuple(s + config.max_range_m * d for s, d in zip(start, world_dir))))
+            for offset in config.cone_offsets_rad:
+                yaw = side * config.yaw_rad + offset
+                direction = _rotate(m, (math.cos(yaw), math.sin(yaw), 0.0))
+                rays.append((start, tuple(s + config.max_range_m * d for s, d in zip(start, direction))))
     return rays
 
 
@@ -76,13 +80,15 @@ def _rotate(m: tuple[float, ...], v: tuple[float, float, float]) -> tuple[float,
 
 
 def sonar_distances(hits, config: SonarConfig) -> tuple[float, ...]:
-    """Convert rayTestBatch results of one robot's four rays to clipped distances."""
+    """Distances of the four sonars from the rayTestBatch results of their rays."""
+    per_sonar = len(config.cone_offsets_rad)
     out = []
-    for hit in hits:
-        if hit[0] < 0:
-            out.append(config.max_range_m)
-        else:
-            out.append(min(config.max_range_m, max(config.min_range_m, hit[2] * config.max_range_m)))
+    for i in range(4):
+        nearest = config.max_range_m
+        for hit in hits[i * per_sonar : (i + 1) * per_sonar]:
+            if hit[0] >= 0:
+                nearest = min(nearest, hit[2] * config.max_range_m)
+        out.append(max(config.min_range_m, nearest))
     return tuple(out)
 
 

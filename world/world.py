@@ -119,6 +119,9 @@ class World:
         self.scene: SceneBodies = build_scene(client, cfg.field)
         self._ground_ids = (self.scene.ground, self.scene.carpet)
         self._robot_of_body = {body: rid for rid, body in self._bodies.items()}
+        # Sleeping bodies are not part of a saved state; a world that restores must not sleep.
+        for body in (self._ball, *self._bodies.values()):
+            pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=client)
         self._projection = rendering.projection_matrix(NAO_CAMERA, cfg.render)
         self.time_s = 0.0
         self._last_toucher: tuple[str | None, float | None] = (None, None)
@@ -171,6 +174,7 @@ class World:
         )
 
     def restore_state(self, snapshot: WorldSnapshot) -> None:
+        self._clear_contact_caches()
         pb.restoreState(stateId=snapshot.state_id, physicsClientId=self._client)
         self.time_s = snapshot.time_s
         for rid, fields in snapshot.controllers.items():
@@ -182,6 +186,17 @@ class World:
         self._previous_velocity = dict(snapshot.previous_velocity)
         self._accelerations = dict(snapshot.accelerations)
         self.rng.bit_generator.state = copy.deepcopy(snapshot.rng_state)
+
+    def _clear_contact_caches(self) -> None:
+        """Drop cached contact pairs, which a restored state does not overwrite.
+
+        Without this, a pair that touched before the restore (two robots that collided)
+        keeps a stale manifold that changes the solver order, and a restored run differs
+        from the first run in the last bits.
+        """
+        for i, body in enumerate((self._ball, *self._bodies.values())):
+            pb.resetBasePositionAndOrientation(body, (1000.0 + 10.0 * i, 1000.0, 0.0), (0, 0, 0, 1), physicsClientId=self._client)
+        pb.performCollisionDetection(physicsClientId=self._client)
 
     def close(self) -> None:
         if not self._closed:
@@ -314,6 +329,7 @@ class World:
         client = self._client
         rays = [ray for rid in ids for ray in sonar_rays(client, self._bodies[rid], self.config.sonar)]
         hits = pb.rayTestBatch([r[0] for r in rays], [r[1] for r in rays], physicsClientId=client) if rays else []
+        rays_per_robot = 4 * len(self.config.sonar.cone_offsets_rad)
         readings = {}
         for i, rid in enumerate(ids):
             body = self._bodies[rid]
@@ -329,7 +345,7 @@ class World:
                 camera=controller.camera,
                 accelerometer_mps2=to_torso(m, (ax, ay, az + GRAVITY_MPS2)),
                 gyro_radps=to_torso(m, angular),
-                sonar_m=sonar_distances(hits[4 * i : 4 * i + 4], self.config.sonar),
+                sonar_m=sonar_distances(hits[i * rays_per_robot : (i + 1) * rays_per_robot], self.config.sonar),
                 bumpers=bumpers(client, body, self._ground_ids),
                 motion=controller.status(self.time_s),
             )
