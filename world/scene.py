@@ -18,6 +18,7 @@ GOAL_RGBA = {GoalColor.BLUE: (0.1, 0.25, 0.95, 1.0), GoalColor.YELLOW: (0.95, 0.
 FLOOR_RGBA = (0.45, 0.42, 0.4, 1.0)
 WALL_RGBA = (0.28, 0.3, 0.38, 1.0)
 BANNER_RGBA = (0.93, 0.93, 0.9, 1.0)
+SKY_RGBA = (0.55, 0.62, 0.75, 1.0)
 
 WALL_GAP_M = 1.2  # from the carpet edge to the walls
 WALL_HEIGHT_M = 4.0
@@ -135,7 +136,7 @@ def _build_goal(client: int, field: FieldGeometry, color: GoalColor) -> int:
 
 
 def _build_surroundings(client: int, field: FieldGeometry) -> int:
-    """Floor around the carpet and the four walls of the hall, as one-sided quads.
+    """Floor around the carpet, the four walls and the roof of the hall, as one-sided quads.
 
     Boxes would be drawn with their back faces too (TinyRenderer does not cull), doubling
     the fill cost; the walls also collide, so a ball cannot leave the hall.
@@ -157,6 +158,8 @@ def _build_surroundings(client: int, field: FieldGeometry) -> int:
         ((-ox, -oy, 0.0), (-ox, oy, 0.0), (-ox, oy, top), (-ox, -oy, top)),
     ]
     _static_quads(client, floor, FLOOR_RGBA)
+    # The hall's roof, so a camera looking up sees sky colour, not TinyRenderer's white.
+    _static_quads(client, [((-ox, oy, top), (ox, oy, top), (ox, -oy, top), (-ox, -oy, top))], SKY_RGBA)
     wall_t = 0.05
     collision = pb.createCollisionShapeArray(
         shapeTypes=[pb.GEOM_BOX] * 4,

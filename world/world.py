@@ -173,6 +173,12 @@ class World:
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
         )
 
+    def discard_state(self, snapshot: WorldSnapshot) -> None:
+        """Free the memory of a saved state that will not be restored again."""
+        if snapshot is self._initial:
+            raise ValueError("the initial state is kept for reset() and cannot be discarded")
+        pb.removeState(snapshot.state_id, physicsClientId=self._client)
+
     def restore_state(self, snapshot: WorldSnapshot) -> None:
         self._clear_contact_caches()
         pb.restoreState(stateId=snapshot.state_id, physicsClientId=self._client)
