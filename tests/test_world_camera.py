@@ -101,3 +101,37 @@ def test_camera_image_shape_and_content(world):
     green = (image[:, :, 1] > image[:, :, 0] + 40) & (image[:, :, 1] > image[:, :, 2] + 40)
     white = image.min(axis=2) > 200
     assert green.mean() > 0.5 and white.mean() > 0.01
+
+
+@pytest.fixture(scope="module")
+def quad_ground_world():
+    """The same world drawing the ground with TinyRenderer's textured quads."""
+    from world.config import RenderConfig, RobotSpec, WorldConfig
+    from world.robot_model import TeamColor
+    from world.world import World
+
+    world = World(
+        [RobotSpec("a", TeamColor.BLUE), RobotSpec("b", TeamColor.RED)],
+        WorldConfig(render=RenderConfig(analytic_ground=False)),
+    )
+    yield world
+    world.close()
+
+
+@pytest.mark.parametrize(
+    "pose, pitch_deg",
+    [(Pose2D(-1.5, 0.2, 0.1), 17.0), (Pose2D(2.0, 1.0, 0.5), 25.0), (Pose2D(0.0, -1.5, 2.5), 5.0)],
+)
+def test_analytic_ground_matches_textured_quad(world, quad_ground_world, pose, pitch_deg):
+    """world.ground draws what TinyRenderer draws for the carpet, up to line-edge texels."""
+    images = []
+    for each in (world, quad_ground_world):
+        each.reset(0)
+        each.place_robot("a", pose)
+        each.place_robot("b", Pose2D(pose.x + 1.0 * math.cos(pose.theta), pose.y + 1.0 * math.sin(pose.theta), 0.0))
+        each.set_head("a", 0.0, math.radians(pitch_deg))
+        each.step(10)
+        images.append(each.render_camera("a").astype(int))
+    difference = np.abs(images[0] - images[1]).max(axis=2)
+    assert (difference <= 6).mean() > 0.95
+    assert np.abs(images[0].mean(axis=(0, 1)) - images[1].mean(axis=(0, 1))).max() < 2.0

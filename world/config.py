@@ -52,6 +52,7 @@ class RenderConfig:
     specular: float = 0.0
     near_m: float = 0.01
     far_m: float = 20.0
+    analytic_ground: bool = True  # draw the ground plane in numpy (world.ground); False: all TinyRenderer
 
 
 @dataclass(frozen=True)

@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pybullet as pb
 
-from world.camera_model import CAMERA_TO_BODY_AXES, NAO_CAMERA, NAO_HEAD, CameraIntrinsics, CameraPosition, rotation_y
+from world.camera_model import CAMERA_TO_BODY_AXES, NAO_CAMERA, NAO_HEAD, CameraPosition, rotation_y
 from world.config import RenderConfig
+from world.ground import GroundRenderer
 from world.robot_model import Joint
 
 
@@ -23,15 +24,6 @@ def camera_pose(client: int, body: int, camera: CameraPosition) -> tuple[np.ndar
     return rotation, position
 
 
-def projection_matrix(intrinsics: CameraIntrinsics, render: RenderConfig) -> tuple[float, ...]:
-    return pb.computeProjectionMatrixFOV(
-        fov=math.degrees(intrinsics.vertical_fov_rad),
-        aspect=intrinsics.width_px / intrinsics.height_px,
-        nearVal=render.near_m,
-        farVal=render.far_m,
-    )
-
-
 def view_matrix(rotation: np.ndarray, position: np.ndarray) -> tuple[float, ...]:
     forward, down = rotation[:, 2], rotation[:, 1]
     return pb.computeViewMatrix(
@@ -41,19 +33,42 @@ def view_matrix(rotation: np.ndarray, position: np.ndarray) -> tuple[float, ...]
     )
 
 
+def look_at(eye, target, up) -> tuple[np.ndarray, np.ndarray]:
+    """Camera pose (rotation camera->world, position) looking from ``eye`` at ``target``."""
+    position = np.asarray(eye, float)
+    forward = np.asarray(target, float) - position
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, np.asarray(up, float))
+    right /= np.linalg.norm(right)
+    down = np.cross(forward, right)
+    return np.stack([right, down, forward], axis=1), position
+
+
 def render(
     client: int,
-    view: tuple[float, ...],
-    projection: tuple[float, ...],
+    rotation: np.ndarray,
+    position: np.ndarray,
     width_px: int,
     height_px: int,
+    vertical_fov_rad: float,
     render_config: RenderConfig,
+    ground: GroundRenderer | None = None,
 ) -> np.ndarray:
-    """Render one RGB image (height, width, 3) uint8 with TinyRenderer."""
-    _, _, rgba, _, _ = pb.getCameraImage(
+    """Render one RGB image (height, width, 3) uint8 from a camera pose, square pixels.
+
+    With ``ground``, TinyRenderer draws the bodies and the ground plane is composited in
+    analytically (the scene's ground visuals must then be hidden, see :mod:`world.ground`).
+    """
+    projection = pb.computeProjectionMatrixFOV(
+        fov=math.degrees(vertical_fov_rad),
+        aspect=width_px / height_px,
+        nearVal=render_config.near_m,
+        farVal=render_config.far_m,
+    )
+    _, _, rgba, depth, _ = pb.getCameraImage(
         width_px,
         height_px,
-        viewMatrix=view,
+        viewMatrix=view_matrix(rotation, position),
         projectionMatrix=projection,
         lightDirection=render_config.light_direction,
         lightAmbientCoeff=render_config.ambient,
@@ -64,19 +79,25 @@ def render(
         flags=pb.ER_NO_SEGMENTATION_MASK,
         physicsClientId=client,
     )
-    return np.ascontiguousarray(np.reshape(rgba, (height_px, width_px, 4))[:, :, :3], dtype=np.uint8)
+    image = np.ascontiguousarray(np.reshape(rgba, (height_px, width_px, 4))[:, :, :3], dtype=np.uint8)
+    if ground is not None:
+        focal_px = (height_px / 2.0) / math.tan(vertical_fov_rad / 2.0)
+        ground.composite(image, np.reshape(depth, (height_px, width_px)), rotation, position, focal_px)
+    return image
 
 
 def render_robot_camera(
-    client: int, body: int, camera: CameraPosition, render_config: RenderConfig, projection: tuple[float, ...]
+    client: int, body: int, camera: CameraPosition, render_config: RenderConfig, ground: GroundRenderer | None
 ) -> np.ndarray:
     rotation, position = camera_pose(client, body, camera)
-    return render(client, view_matrix(rotation, position), projection, NAO_CAMERA.width_px, NAO_CAMERA.height_px, render_config)
+    cam = NAO_CAMERA
+    return render(client, rotation, position, cam.width_px, cam.height_px, cam.vertical_fov_rad, render_config, ground)
 
 
 def render_overview(
     client: int,
     render_config: RenderConfig,
+    ground: GroundRenderer | None,
     eye: tuple[float, float, float] = (0.0, -3.7, 4.4),
     target: tuple[float, float, float] = (0.0, -0.2, 0.0),
     width_px: int = 640,
@@ -86,6 +107,5 @@ def render_overview(
     """A broadcast-style image of the whole field; straight down with ``eye`` above ``target``."""
     dx, dy = target[0] - eye[0], target[1] - eye[1]
     up = (0.0, 1.0, 0.0) if abs(dx) < 1e-9 and abs(dy) < 1e-9 else (0.0, 0.0, 1.0)
-    view = pb.computeViewMatrix(eye, target, up)
-    projection = pb.computeProjectionMatrixFOV(fov_deg, width_px / height_px, 0.1, 50.0)
-    return render(client, view, projection, width_px, height_px, render_config)
+    rotation, position = look_at(eye, target, up)
+    return render(client, rotation, position, width_px, height_px, math.radians(fov_deg), render_config, ground)

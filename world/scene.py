@@ -32,9 +32,17 @@ GOAL_FRAME_RADIUS_M = 0.02
 class SceneBodies:
     ground: int
     carpet: int
+    floor: int
     goals: dict[GoalColor, int]
     surroundings: int
     banners: int
+
+    floor_half_extent: tuple[float, float]
+
+    @property
+    def ground_visuals(self) -> tuple[int, int]:
+        """Bodies that draw the plane z = 0 (see :mod:`world.ground`)."""
+        return self.carpet, self.floor
 
 
 def build_scene(client: int, field: FieldGeometry) -> SceneBodies:
@@ -47,9 +55,11 @@ def build_scene(client: int, field: FieldGeometry) -> SceneBodies:
     return SceneBodies(
         ground=ground,
         carpet=_build_carpet(client, field),
+        floor=_build_floor(client, field),
         goals={color: _build_goal(client, field, color) for color in GoalColor},
         surroundings=_build_surroundings(client, field),
         banners=_build_banners(client, field),
+        floor_half_extent=(field.carpet_half_length + WALL_GAP_M, field.carpet_half_width + WALL_GAP_M),
     )
 
 
@@ -135,15 +145,10 @@ def _build_goal(client: int, field: FieldGeometry, color: GoalColor) -> int:
     return goal
 
 
-def _build_surroundings(client: int, field: FieldGeometry) -> int:
-    """Floor around the carpet, the four walls and the roof of the hall, as one-sided quads.
-
-    Boxes would be drawn with their back faces too (TinyRenderer does not cull), doubling
-    the fill cost; the walls also collide, so a ball cannot leave the hall.
-    """
+def _build_floor(client: int, field: FieldGeometry) -> int:
+    """The hall's floor between the carpet and the walls: four strips facing up."""
     hx, hy = field.carpet_half_length, field.carpet_half_width
     ox, oy = hx + WALL_GAP_M, hy + WALL_GAP_M
-    top = WALL_HEIGHT_M
     floor_z = -0.002
     floor = [  # four strips between the carpet edge and the walls, facing up
         ((-ox, hy, floor_z), (ox, hy, floor_z), (ox, oy, floor_z), (-ox, oy, floor_z)),
@@ -151,15 +156,27 @@ def _build_surroundings(client: int, field: FieldGeometry) -> int:
         ((hx, -hy, floor_z), (ox, -hy, floor_z), (ox, hy, floor_z), (hx, hy, floor_z)),
         ((-ox, -hy, floor_z), (-hx, -hy, floor_z), (-hx, hy, floor_z), (-ox, hy, floor_z)),
     ]
+    return _static_quads(client, floor, FLOOR_RGBA)
+
+
+def _build_surroundings(client: int, field: FieldGeometry) -> int:
+    """The four walls and the roof of the hall, as one-sided quads.
+
+    Boxes would be drawn with their back faces too (TinyRenderer does not cull), doubling
+    the fill cost; the walls also collide, so a ball cannot leave the hall.
+    """
+    hx, hy = field.carpet_half_length, field.carpet_half_width
+    ox, oy = hx + WALL_GAP_M, hy + WALL_GAP_M
+    top = WALL_HEIGHT_M
+    low, e = -0.05, 0.05  # walls reach below the floor and past the corners: no cracks
     walls = [  # facing the field
-        ((-ox, oy, 0.0), (ox, oy, 0.0), (ox, oy, top), (-ox, oy, top)),
-        ((ox, -oy, 0.0), (-ox, -oy, 0.0), (-ox, -oy, top), (ox, -oy, top)),
-        ((ox, oy, 0.0), (ox, -oy, 0.0), (ox, -oy, top), (ox, oy, top)),
-        ((-ox, -oy, 0.0), (-ox, oy, 0.0), (-ox, oy, top), (-ox, -oy, top)),
+        ((-ox - e, oy, low), (ox + e, oy, low), (ox + e, oy, top), (-ox - e, oy, top)),
+        ((ox + e, -oy, low), (-ox - e, -oy, low), (-ox - e, -oy, top), (ox + e, -oy, top)),
+        ((ox, oy + e, low), (ox, -oy - e, low), (ox, -oy - e, top), (ox, oy + e, top)),
+        ((-ox, -oy - e, low), (-ox, oy + e, low), (-ox, oy + e, top), (-ox, -oy - e, top)),
     ]
-    _static_quads(client, floor, FLOOR_RGBA)
     # The hall's roof, so a camera looking up sees sky colour, not TinyRenderer's white.
-    _static_quads(client, [((-ox, oy, top), (ox, oy, top), (ox, -oy, top), (-ox, -oy, top))], SKY_RGBA)
+    _static_quads(client, [((-ox - e, oy + e, top), (ox + e, oy + e, top), (ox + e, -oy - e, top), (-ox - e, -oy - e, top))], SKY_RGBA)
     wall_t = 0.05
     collision = pb.createCollisionShapeArray(
         shapeTypes=[pb.GEOM_BOX] * 4,

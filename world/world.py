@@ -19,10 +19,11 @@ import pybullet as pb
 
 from world import rendering
 from world.ball import BallState, build_ball
-from world.camera_model import NAO_CAMERA, CameraPosition
+from world.camera_model import CameraPosition
 from world.config import RobotSpec, WorldConfig
 from world.errors import InvalidCommandError, InvalidPoseError, JointLimitError, UnknownRobotError
 from world.field import Pose2D
+from world.ground import GroundRenderer
 from world.gaits import STANDING
 from world.locomotion import LocomotionController, MotionStatus, head_limits_check
 from world.motions import Motion
@@ -85,7 +86,7 @@ class World:
             raise RuntimeError("could not connect to a pybullet physics server")
         self._closed = False
         try:
-            self._build(robots)
+            self._build(robots, gui)
         except Exception:
             self.close()
             raise
@@ -94,7 +95,7 @@ class World:
 
     # ---- construction ---------------------------------------------------------------
 
-    def _build(self, robots: Sequence[RobotSpec]) -> None:
+    def _build(self, robots: Sequence[RobotSpec], gui: bool) -> None:
         client, cfg = self._client, self.config
         pb.setGravity(0.0, 0.0, -GRAVITY_MPS2, physicsClientId=client)
         pb.setPhysicsEngineParameter(
@@ -122,7 +123,12 @@ class World:
         # Sleeping bodies are not part of a saved state; a world that restores must not sleep.
         for body in (self._ball, *self._bodies.values()):
             pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=client)
-        self._projection = rendering.projection_matrix(NAO_CAMERA, cfg.render)
+        self._ground = None
+        if cfg.render.analytic_ground:
+            self._ground = GroundRenderer(cfg.field, cfg.render, self.scene.floor_half_extent)
+            if not gui:  # the GUI window still shows the textured quads
+                for body in self.scene.ground_visuals:
+                    pb.changeVisualShape(body, -1, rgbaColor=(0, 0, 0, 0), physicsClientId=client)
         self.time_s = 0.0
         self._last_toucher: tuple[str | None, float | None] = (None, None)
         self._previous_velocity = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
@@ -323,7 +329,7 @@ class World:
         """The robot's 160x120 RGB camera image (uint8, rows top to bottom)."""
         controller = self._controllers[self._check_robot(robot_id)]
         return rendering.render_robot_camera(
-            self._client, controller.body, controller.camera, self.config.render, self._projection
+            self._client, controller.body, controller.camera, self.config.render, self._ground
         )
 
     def sensors(self, robot_id: str) -> SensorReading:
@@ -390,7 +396,7 @@ class World:
 
     def render_overview(self, **kwargs) -> np.ndarray:
         """A broadcast view of the field (see :func:`world.rendering.render_overview`)."""
-        return rendering.render_overview(self._client, self.config.render, **kwargs)
+        return rendering.render_overview(self._client, self.config.render, self._ground, **kwargs)
 
     # ---- checks ----------------------------------------------------------------------
 

@@ -1,0 +1,249 @@
+"""The project's own benchmark: what one camera frame and one control step cost.
+
+Each benchmark is a named function in :data:`BENCHMARKS` that gets the number of timed
+repeats and returns flat metrics (``<name>_ms_median``, ``<name>_ms_p90``, ...); they are
+merged, with a description of the machine, into ``bench.json``. Add a benchmark by
+appending to :data:`BENCHMARKS`. Times are wall-clock (``time.perf_counter``), measured
+after a warm-up; quote medians (DESIGN.md section 6).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import platform
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pybullet as pb
+
+from scenarios.world_demo import SCAN_PITCH_RAD, team_roster
+from world.camera_model import NAO_CAMERA, world_to_camera
+from world.field import Pose2D
+from world.motions import Motion
+from world.world import World
+
+log = logging.getLogger(__name__)
+
+DEFAULT_REPEATS = 200
+QUICK_REPEATS = 20
+RENDER_WARMUP = 10
+PHYSICS_WARMUP = 25
+SETTLE_STEPS = 5
+
+
+@dataclass(frozen=True)
+class Benchmark:
+    """A named measurement: ``run(repeats)`` returns its metrics as a flat dict of numbers."""
+
+    name: str
+    description: str
+    run: Callable[[int], dict[str, float]]
+
+
+# ---- robot camera frame -------------------------------------------------------------------
+
+RENDER_VIEWER = "home_1"
+RENDER_VIEWER_POSE = Pose2D(-2.2, 0.0, 0.0)
+"""Just in front of the blue goal area, facing the field (+x)."""
+
+RENDER_OTHERS: dict[str, tuple[float, float]] = {
+    "home_0": (1.2, 17.0),
+    "away_2": (3.8, 9.0),
+    "home_3": (2.0, 3.5),
+    "away_0": (4.5, -1.5),
+    "away_1": (2.8, -6.0),
+    "away_3": (3.4, -11.0),
+    "home_2": (1.5, -17.5),
+}
+"""Other robots as (distance m, bearing deg CCW) from the viewer: 1.2-4.5 m ahead, inside its
+46 deg field of view, at bearings far enough apart that none hides another."""
+
+RENDER_BALL = (0.9, 0.0)
+"""The ball, (distance m, bearing deg) from the viewer, in front of everybody."""
+
+
+def setup_render_scene(world: World) -> None:
+    """Viewer near its own goal area, head pitched 17 deg down, the 7 others in its view.
+
+    Raises :class:`RuntimeError` if the pinhole model puts any other robot's torso centre
+    or ground point outside the image, so the benchmark always renders all robots.
+    """
+    viewer = RENDER_VIEWER_POSE
+    c, s = math.cos(viewer.theta), math.sin(viewer.theta)
+
+    def field_point(distance_m: float, bearing_deg: float) -> tuple[float, float]:
+        ahead, left = distance_m * math.cos(math.radians(bearing_deg)), distance_m * math.sin(math.radians(bearing_deg))
+        return viewer.x + c * ahead - s * left, viewer.y + s * ahead + c * left
+
+    world.place_robot(RENDER_VIEWER, viewer)
+    for robot_id, (distance_m, bearing_deg) in RENDER_OTHERS.items():
+        x, y = field_point(distance_m, bearing_deg)
+        world.place_robot(robot_id, Pose2D(x, y, math.atan2(viewer.y - y, viewer.x - x)))
+    world.place_ball(*field_point(*RENDER_BALL))
+    world.set_head(RENDER_VIEWER, 0.0, SCAN_PITCH_RAD)
+    world.step(SETTLE_STEPS)
+    check_all_in_view(world, RENDER_VIEWER, list(RENDER_OTHERS))
+
+
+def check_all_in_view(world: World, viewer: str, others: Sequence[str]) -> None:
+    """Raise :class:`RuntimeError` unless every robot of ``others`` projects into ``viewer``'s image."""
+    rotation, position = world.camera_pose(viewer)
+    outside = []
+    for robot_id in others:
+        truth = world.robot_truth(robot_id)
+        points = np.array([[truth.pose.x, truth.pose.y, truth.z_m], [truth.pose.x, truth.pose.y, 0.0]])
+        pixels = NAO_CAMERA.project(world_to_camera(points, rotation, position))
+        if not NAO_CAMERA.in_image(pixels).all():
+            where = f"({truth.pose.x:.2f}, {truth.pose.y:.2f})"
+            outside.append(f"{robot_id} at {where} -> pixels {pixels.round(1).tolist()}")
+    if outside:
+        raise RuntimeError(f"render benchmark: robots outside {viewer}'s camera image: {'; '.join(outside)}")
+
+
+def bench_render(repeats: int) -> dict[str, float]:
+    """One 160x120 robot camera frame with all 8 robots in the scene and 7 of them in view."""
+    with World(team_roster()) as world:
+        setup_render_scene(world)
+        samples = time_ms(lambda: world.render_camera(RENDER_VIEWER), repeats, RENDER_WARMUP)
+    return summarize("render", samples)
+
+
+# ---- physics control step -----------------------------------------------------------------
+
+PHYSICS_START: dict[str, Pose2D] = {
+    "home_0": Pose2D(-2.6, 0.0, 0.0),
+    "home_1": Pose2D(-1.8, 1.2, 0.0),
+    "home_2": Pose2D(-1.8, -1.2, 0.0),
+    "home_3": Pose2D(-0.9, -0.5, 0.0),
+    "away_0": Pose2D(2.6, 0.0, math.pi),
+    "away_1": Pose2D(1.8, -1.2, math.pi),
+    "away_2": Pose2D(1.8, 1.2, math.pi),
+    "away_3": Pose2D(0.9, 0.5, math.pi),
+}
+
+WALK_CYCLE: tuple[Motion, ...] = (Motion.FORWARD, Motion.TURN_LEFT_40, Motion.FORWARD, Motion.TURN_RIGHT_40)
+
+
+class _Walkers:
+    """Keeps every robot walking: the next motion of its cycle starts when one finishes."""
+
+    def __init__(self, world: World):
+        self.world = world
+        self.next_index = {rid: i for i, rid in enumerate(world.robot_ids)}  # staggered phases
+
+    def command(self) -> None:
+        for rid, i in self.next_index.items():
+            if self.world.motion_status(rid).current is None:
+                self.world.command_motion(rid, WALK_CYCLE[i % len(WALK_CYCLE)])
+                self.next_index[rid] = i + 1
+
+
+def bench_physics_step(repeats: int) -> dict[str, float]:
+    """One control step (40 ms, 5 physics substeps) with 8 walking robots and a rolling ball."""
+    with World(team_roster()) as world:
+        for robot_id, pose in PHYSICS_START.items():
+            world.place_robot(robot_id, pose)
+        world.place_ball(0.0, 0.0, vx=0.4, vy=0.3)
+        walkers = _Walkers(world)
+        samples = time_ms(world.step, repeats, PHYSICS_WARMUP, before=walkers.command)
+    return summarize("physics_step", samples)
+
+
+BENCHMARKS: tuple[Benchmark, ...] = (
+    Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
+    Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
+)
+
+
+# ---- running ------------------------------------------------------------------------------
+
+
+def time_ms(
+    fn: Callable[[], object], repeats: int, warmup: int, before: Callable[[], object] | None = None
+) -> np.ndarray:
+    """Wall-clock milliseconds of ``repeats`` calls of ``fn`` after ``warmup`` untimed ones.
+
+    ``before`` runs untimed before every call (e.g. issuing commands).
+    """
+    samples = np.empty(repeats)
+    for i in range(warmup + repeats):
+        if before is not None:
+            before()
+        start = time.perf_counter()
+        fn()
+        elapsed = time.perf_counter() - start
+        if i >= warmup:
+            samples[i - warmup] = elapsed * 1e3
+    return samples
+
+
+def summarize(name: str, samples_ms: np.ndarray) -> dict[str, float]:
+    return {
+        f"{name}_ms_median": float(np.median(samples_ms)),
+        f"{name}_ms_p90": float(np.percentile(samples_ms, 90)),
+        f"{name}_ms_min": float(np.min(samples_ms)),
+    }
+
+
+def machine_info() -> dict[str, object]:
+    cpu = None
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return {
+        "cpu_model": cpu or platform.processor() or None,
+        "cpu_count": os.cpu_count(),
+        "python": platform.python_version(),
+        "pybullet_api_version": pb.getAPIVersion(),
+        "platform": platform.platform(),
+    }
+
+
+def run_bench(out_dir: Path, repeats: int = DEFAULT_REPEATS, benchmarks: Sequence[Benchmark] = BENCHMARKS) -> dict:
+    """Run ``benchmarks`` with ``repeats`` timed repeats each; write and return ``bench.json``."""
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f"repeats must be a positive integer; got {repeats!r}")
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    results: dict = {"repeats": repeats}
+    for benchmark in benchmarks:
+        log.info("benchmark %s: %s (%d repeats)", benchmark.name, benchmark.description, repeats)
+        metrics = benchmark.run(repeats)
+        log.debug("benchmark %s: %s", benchmark.name, metrics)
+        results.update(metrics)
+    results["machine"] = machine_info()
+    path = out_dir / "bench.json"
+    path.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
+    log.info("wrote %s", path)
+    return results
+
+
+TABLE_STATS = ("median", "p90", "min")
+
+
+def format_table(results: dict) -> str:
+    """The metrics of ``results`` as a plain-text table: timings (ms) first, then other numbers."""
+    names = [key.removesuffix("_ms_median") for key in results if key.endswith("_ms_median")]
+    rows = [("benchmark", *(f"{stat} ms" for stat in TABLE_STATS))]
+    for name in names:
+        cells = [results.get(f"{name}_ms_{stat}") for stat in TABLE_STATS]
+        rows.append((name, *("-" if value is None else f"{value:.3f}" for value in cells)))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    lines = ["  ".join([row[0].ljust(widths[0]), *(c.rjust(w) for c, w in zip(row[1:], widths[1:]))]) for row in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    for key, value in results.items():
+        if key != "repeats" and "_ms_" not in key and isinstance(value, (int, float)) and not isinstance(value, bool):
+            lines.append(f"{key}: {value:.3f}")
+    lines.append(f"repeats: {results.get('repeats')}")
+    return "\n".join(lines)
