@@ -118,6 +118,7 @@ class LocomotionController:
     ref: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])  # x, y, heading
     joint_setpoints: dict[Joint, float] = field(default_factory=dict)
     _yaw_torque: float = 0.0
+    _motors_set: bool = False  # motor targets persist in pybullet until changed
 
     # ---- commands -------------------------------------------------------------------
 
@@ -161,6 +162,10 @@ class LocomotionController:
     def set_head(self, yaw_rad: float, pitch_rad: float) -> None:
         self.head_yaw_target, self.head_pitch_target = yaw_rad, pitch_rad
 
+    def resend_motor_targets(self) -> None:
+        """Send the joint setpoints again at the next substep (after a restored state)."""
+        self._motors_set = False
+
     @property
     def fallen(self) -> bool:
         return self.fall_side is not FallSide.NONE
@@ -180,6 +185,7 @@ class LocomotionController:
         self.fall_side = FallSide.NONE
         self.refused = None
         self.joint_setpoints = {}
+        self._motors_set = False
         self._anchor()
 
     # ---- control --------------------------------------------------------------------
@@ -267,34 +273,37 @@ class LocomotionController:
         return gaits.STANDING
 
     def _drive_joints(self, targets: gaits.JointTargets, dt_s: float, kick_speed: float = 1.0) -> None:
+        """Move each joint's setpoint toward its target at the joint's speed; send if changed."""
         cfg = self.config
-        wanted = dict(targets)
-        wanted[Joint.HEAD_YAW] = self.head_yaw_target
-        wanted[Joint.HEAD_PITCH] = self.head_pitch_target
+        kicking = self.active is not None and self.active.motion.is_kick
+        limb_step = (cfg.kick_joint_speed_radps * kick_speed if kicking else cfg.joint_speed_max_radps) * dt_s
+        head_step = HEAD_SPEED_RADPS * dt_s
         setpoints = self.joint_setpoints
-        positions = []
+        changed = False
         for joint in ACTUATED_JOINTS:
-            goal = wanted.get(joint, 0.0)
-            if joint in (Joint.HEAD_YAW, Joint.HEAD_PITCH):
-                speed = HEAD_SPEED_RADPS
-            elif self.active is not None and self.active.motion.is_kick:
-                speed = cfg.kick_joint_speed_radps * kick_speed
+            if joint is Joint.HEAD_YAW:
+                goal, step = self.head_yaw_target, head_step
+            elif joint is Joint.HEAD_PITCH:
+                goal, step = self.head_pitch_target, head_step
             else:
-                speed = cfg.joint_speed_max_radps
+                goal, step = targets.get(joint, 0.0), limb_step
             current = setpoints.get(joint, goal)
-            step = speed * dt_s
-            current = goal if abs(goal - current) <= step else current + math.copysign(step, goal - current)
-            setpoints[joint] = current
-            positions.append(current)
-        pb.setJointMotorControlArray(
-            self.body,
-            [int(j) for j in ACTUATED_JOINTS],
-            pb.POSITION_CONTROL,
-            targetPositions=positions,
-            forces=[cfg.joint_torque_max_nm] * len(ACTUATED_JOINTS),
-            positionGains=[JOINT_POSITION_GAIN] * len(ACTUATED_JOINTS),
-            physicsClientId=self.client,
-        )
+            if current != goal:
+                current = goal if abs(goal - current) <= step else current + math.copysign(step, goal - current)
+            if setpoints.get(joint) != current:
+                setpoints[joint] = current
+                changed = True
+        if changed or not self._motors_set:
+            pb.setJointMotorControlArray(
+                self.body,
+                _ACTUATED_INDICES,
+                pb.POSITION_CONTROL,
+                targetPositions=[setpoints[j] for j in ACTUATED_JOINTS],
+                forces=[cfg.joint_torque_max_nm] * len(ACTUATED_JOINTS),
+                positionGains=[JOINT_POSITION_GAIN] * len(ACTUATED_JOINTS),
+                physicsClientId=self.client,
+            )
+            self._motors_set = True
 
     def _play_stand_up(self, active: _ActiveMotion, now_s: float) -> None:
         """Stand-up keyframes move the torso kinematically; a wrong-side stand-up does nothing."""
@@ -335,6 +344,7 @@ class LocomotionController:
 
 HEAD_SPEED_RADPS = math.radians(240.0)
 JOINT_POSITION_GAIN = 1.0
+_ACTUATED_INDICES = [int(j) for j in ACTUATED_JOINTS]
 
 
 def _integrate_body_velocity(vx: float, vy: float, omega: float, duration_s: float) -> Displacement:

@@ -190,8 +190,10 @@ class World:
         pb.restoreState(stateId=snapshot.state_id, physicsClientId=self._client)
         self.time_s = snapshot.time_s
         for rid, fields in snapshot.controllers.items():
+            controller = self._controllers[rid]
             for key, value in fields.items():
-                setattr(self._controllers[rid], key, copy.deepcopy(value))
+                setattr(controller, key, copy.deepcopy(value))
+            controller.resend_motor_targets()  # motor targets are not part of a pybullet state
         for rid, team in snapshot.teams.items():
             self.set_team_color(rid, team)
         self._last_toucher = snapshot.last_toucher
