@@ -153,5 +153,3 @@ def build_robot(client: int, team: TeamColor, x: float, y: float, yaw: float) ->
 def set_team_color(client: int, body: int, team: TeamColor) -> None:
     pb.changeVisualShape(body, int(Joint.WAIST), rgbaColor=team.rgba, physicsClientId=client)
 
-
-HEAD_MAX_SPEED_RAD_S = math.radians(240.0)

@@ -232,7 +232,11 @@ class World:
     # ---- placing things -------------------------------------------------------------
 
     def place_robot(self, robot_id: str, pose: Pose2D) -> None:
-        """Put a robot standing upright at ``pose`` (field frame), at rest; clears its motion."""
+        """Put a robot standing upright at ``pose`` (field frame), at rest.
+
+        Clears its motion and fall state and levels its head (yaw 0, pitch 0); the camera
+        position is kept. A head target takes a few steps to be reached after this.
+        """
         body = self.body_id(robot_id)
         self._check_position(f"robot {robot_id!r} pose", pose.x, pose.y, extra=(pose.theta,))
         orientation = pb.getQuaternionFromEuler((0.0, 0.0, pose.theta))
