@@ -9,7 +9,6 @@ positive when the limb or head tips forward/down.
 from __future__ import annotations
 
 import enum
-import math
 from dataclasses import dataclass
 
 import pybullet as pb
