@@ -218,3 +218,11 @@ def test_noise_config_is_used(world):
     rng = np.random.default_rng(0)
     real = noise.real_displacement(MOTION_SPECS[Motion.FORWARD].nominal, rng)
     assert real == MOTION_SPECS[Motion.FORWARD].nominal
+
+
+def test_stand_up_while_standing_keeps_the_robot_up(world):
+    world.place_robot("a", START)
+    _play(world, "a", Motion.STAND_UP_FROM_BACK)
+    truth = world.robot_truth("a")
+    assert not truth.fallen and truth.tilt_rad < math.radians(3)
+    assert math.hypot(truth.pose.x - START.x, truth.pose.y - START.y) < 0.02

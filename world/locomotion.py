@@ -201,7 +201,7 @@ class LocomotionController:
         if active is not None and now_s - active.start_time_s >= active.duration_s:
             self._finish(now_s, completed=True)
             active = None
-        if active is not None and active.motion.is_stand_up:
+        if active is not None and active.motion.is_stand_up and self.fallen:
             self._play_stand_up(active, now_s)
             self._drive_joints(gaits.stand_up_targets(now_s - active.start_time_s, active.duration_s), dt_s)
             return
