@@ -201,7 +201,7 @@ class LocomotionController:
         if active is not None and now_s - active.start_time_s >= active.duration_s:
             self._finish(now_s, completed=True)
             active = None
-        if active is not None and active.motion.is_stand_up and self.fallen:
+        if active is not None and active.motion.is_stand_up and active.stand_up_works:
             self._play_stand_up(active, now_s)
             self._drive_joints(gaits.stand_up_targets(now_s - active.start_time_s, active.duration_s), dt_s)
             return
@@ -306,9 +306,11 @@ class LocomotionController:
             self._motors_set = True
 
     def _play_stand_up(self, active: _ActiveMotion, now_s: float) -> None:
-        """Stand-up keyframes move the torso kinematically; a wrong-side stand-up does nothing."""
-        if not active.stand_up_works:
-            return
+        """The matching stand-up moves the torso kinematically upright, then holds it there.
+
+        A stand-up from the wrong side does nothing for a fallen robot; played by a robot
+        that stands, it only holds the stance (neither reaches this method).
+        """
         (x0, y0, z0), q0 = active.stand_up_from
         s = min(1.0, (now_s - active.start_time_s) / (active.duration_s * self.config.stand_up_rise_fraction))
         m = pb.getMatrixFromQuaternion(q0)
