@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pybullet as pb
 
-from scenarios.world_demo import SCAN_PITCH_RAD, team_roster
+from scenarios.world_demo import FORMATION, SCAN_PITCH_RAD, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
 from world.motions import Motion
@@ -116,17 +116,6 @@ def bench_render(repeats: int) -> dict[str, float]:
 
 # ---- physics control step -----------------------------------------------------------------
 
-PHYSICS_START: dict[str, Pose2D] = {
-    "home_0": Pose2D(-2.6, 0.0, 0.0),
-    "home_1": Pose2D(-1.8, 1.2, 0.0),
-    "home_2": Pose2D(-1.8, -1.2, 0.0),
-    "home_3": Pose2D(-0.9, -0.5, 0.0),
-    "away_0": Pose2D(2.6, 0.0, math.pi),
-    "away_1": Pose2D(1.8, -1.2, math.pi),
-    "away_2": Pose2D(1.8, 1.2, math.pi),
-    "away_3": Pose2D(0.9, 0.5, math.pi),
-}
-
 WALK_CYCLE: tuple[Motion, ...] = (Motion.FORWARD, Motion.TURN_LEFT_40, Motion.FORWARD, Motion.TURN_RIGHT_40)
 
 
@@ -147,7 +136,7 @@ class _Walkers:
 def bench_physics_step(repeats: int) -> dict[str, float]:
     """One control step (40 ms, 5 physics substeps) with 8 walking robots and a rolling ball."""
     with World(team_roster()) as world:
-        for robot_id, pose in PHYSICS_START.items():
+        for robot_id, pose in FORMATION.items():
             world.place_robot(robot_id, pose)
         world.place_ball(0.0, 0.0, vx=0.4, vy=0.3)
         walkers = _Walkers(world)
