@@ -196,7 +196,7 @@ class LocomotionController:
         linear, angular = pb.getBaseVelocity(self.body, physicsClientId=self.client)
         m = pb.getMatrixFromQuaternion(orientation)  # row-major 3x3
         tilt = math.acos(max(-1.0, min(1.0, m[8])))
-        heading = math.atan2(m[3], m[0])
+        heading = torso_heading(m)
         active = self.active
         if active is not None and now_s - active.start_time_s >= active.duration_s:
             self._finish(now_s, completed=True)
@@ -314,7 +314,7 @@ class LocomotionController:
         (x0, y0, z0), q0 = active.stand_up_from
         s = min(1.0, (now_s - active.start_time_s) / (active.duration_s * self.config.stand_up_rise_fraction))
         m = pb.getMatrixFromQuaternion(q0)
-        heading = math.atan2(m[3], m[0]) if abs(m[6]) < 0.9 else math.atan2(m[5], m[2])
+        heading = torso_heading(m) if abs(m[6]) < 0.9 else math.atan2(m[5], m[2])  # lying: use torso z
         q1 = pb.getQuaternionFromEuler((0.0, 0.0, heading))
         q = _slerp(q0, q1, s)
         z = z0 + (TORSO_CENTER_HEIGHT_M + 0.005 - z0) * s
@@ -340,13 +340,18 @@ class LocomotionController:
     def _anchor(self) -> None:
         position, orientation = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
         m = pb.getMatrixFromQuaternion(orientation)
-        self.ref = [position[0], position[1], math.atan2(m[3], m[0])]
+        self.ref = [position[0], position[1], torso_heading(m)]
         self._yaw_torque = 0.0
 
 
 HEAD_SPEED_RADPS = math.radians(240.0)
 JOINT_POSITION_GAIN = 1.0
 _ACTUATED_INDICES = [int(j) for j in ACTUATED_JOINTS]
+
+
+def torso_heading(m: tuple[float, ...]) -> float:
+    """Field heading (rad) of the torso's x axis, from a row-major torso->world rotation."""
+    return math.atan2(m[3], m[0])
 
 
 def _integrate_body_velocity(vx: float, vy: float, omega: float, duration_s: float) -> Displacement:

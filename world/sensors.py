@@ -40,11 +40,6 @@ class SensorReading:
         return self.motion.fallen
 
 
-def torso_rotation(client: int, body: int) -> tuple[float, ...]:
-    _, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
-    return pb.getMatrixFromQuaternion(orientation)
-
-
 def to_torso(m: tuple[float, ...], vector: tuple[float, float, float]) -> tuple[float, float, float]:
     """Express a world vector in the torso frame (``m`` row-major torso->world rotation)."""
     x, y, z = vector

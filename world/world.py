@@ -25,7 +25,7 @@ from world.errors import InvalidCommandError, InvalidPoseError, JointLimitError,
 from world.field import Pose2D
 from world.ground import GroundRenderer
 from world.gaits import STANDING
-from world.locomotion import LocomotionController, MotionStatus, head_limits_check
+from world.locomotion import LocomotionController, MotionStatus, head_limits_check, torso_heading
 from world.motions import Motion
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
 from world.scene import SceneBodies, build_scene
@@ -384,7 +384,7 @@ class World:
         position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=self._client)
         m = pb.getMatrixFromQuaternion(orientation)
         return RobotTruth(
-            pose=Pose2D(position[0], position[1], math.atan2(m[3], m[0])),
+            pose=Pose2D(position[0], position[1], torso_heading(m)),
             z_m=position[2],
             tilt_rad=math.acos(max(-1.0, min(1.0, m[8]))),
             fallen=self._controllers[robot_id].fallen,
