@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import pybullet as pb
 
 from world.camera_model import NAO_HEAD
+from world.teams import TeamColor
 
 TORSO_CENTER_HEIGHT_M = 0.34
 TORSO_SIZE_M = (0.09, 0.14, 0.17)
@@ -21,21 +22,6 @@ TORSO_MASS_KG = 1.9
 
 BODY_RGBA = (0.92, 0.92, 0.92, 1.0)
 LIMB_RGBA = (0.72, 0.72, 0.76, 1.0)
-
-
-class TeamColor(enum.Enum):
-    """Colour of a robot's waistband."""
-
-    BLUE = "blue"
-    RED = "red"
-
-    @property
-    def rgba(self) -> tuple[float, float, float, float]:
-        return (0.12, 0.22, 0.85, 1.0) if self is TeamColor.BLUE else (0.85, 0.1, 0.1, 1.0)
-
-    @property
-    def other(self) -> TeamColor:
-        return TeamColor.RED if self is TeamColor.BLUE else TeamColor.BLUE
 
 
 class Joint(enum.IntEnum):

@@ -1,0 +1,1 @@
+"""Behaviours: what a robot does with what it sees and believes."""

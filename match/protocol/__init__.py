@@ -1,0 +1,51 @@
+"""What agents and the match agree on: ids, spaces, actions, game-control data, packets.
+
+Pure Python (no pybullet): agents may import this package and nothing else of ``match``.
+"""
+
+from match.errors import InvalidActionError, RadioPacketError, UnknownAgentError
+from match.protocol.actions import ACTION_KEYS, STAND, Action, make_action, parse_action
+from match.protocol.game_control import GameControlData, GameControlView, GameState, KickOff, SecondaryState
+from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side, roster
+from match.protocol.kickoff import DEFENDING_POSITIONS, KICKING_POSITIONS, kickoff_pose
+from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
+from match.protocol.spaces import MOTIONS, NO_MOTION, CameraChoice, action_space, observation_space
+from world.field import GoalColor, Pose2D
+from world.motions import Displacement, Motion
+from world.teams import TeamColor
+
+__all__ = [
+    "ACTION_KEYS",
+    "DEFENDING_POSITIONS",
+    "INBOX_CAPACITY",
+    "KICKING_POSITIONS",
+    "MAX_PACKET_BYTES",
+    "MAX_PLAYERS_PER_TEAM",
+    "MOTIONS",
+    "NO_MOTION",
+    "STAND",
+    "Action",
+    "AgentId",
+    "CameraChoice",
+    "Displacement",
+    "GameControlData",
+    "GameControlView",
+    "GameState",
+    "GoalColor",
+    "InvalidActionError",
+    "KickOff",
+    "Motion",
+    "PacketSpace",
+    "Pose2D",
+    "RadioPacketError",
+    "SecondaryState",
+    "Side",
+    "TeamColor",
+    "UnknownAgentError",
+    "action_space",
+    "kickoff_pose",
+    "make_action",
+    "observation_space",
+    "parse_action",
+    "roster",
+]

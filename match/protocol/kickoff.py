@@ -1,0 +1,38 @@
+"""Kick-off positions (thesis figure 2.11, SPL 2011 placement): public facts of the rules.
+
+Positions are given for a team that defends the blue goal (own half x < 0, attacking +x)
+and mirrored through the centre spot for the other team. Player 0 is the goalkeeper, on
+its goal line; the kicking team's player 1 stands just behind the ball at the centre spot;
+everyone else stays in its own half, the defenders outside the centre circle.
+"""
+
+from __future__ import annotations
+
+import math
+
+from world.field import GoalColor, Pose2D
+
+# (x, y, theta) for the team defending the blue goal, by player number.
+KICKING_POSITIONS: tuple[tuple[float, float, float], ...] = (
+    (-2.85, 0.0, 0.0),
+    (-0.22, 0.0, 0.0),
+    (-1.2, 1.0, 0.0),
+    (-1.2, -1.0, 0.0),
+)
+DEFENDING_POSITIONS: tuple[tuple[float, float, float], ...] = (
+    (-2.85, 0.0, 0.0),
+    (-1.0, 0.0, 0.0),
+    (-1.6, 1.1, 0.0),
+    (-1.6, -1.1, 0.0),
+)
+
+
+def kickoff_pose(player: int, kicking: bool, defended_goal: GoalColor) -> Pose2D:
+    """Where ``player`` stands at a kick-off (field frame)."""
+    table = KICKING_POSITIONS if kicking else DEFENDING_POSITIONS
+    if not 0 <= player < len(table):
+        raise ValueError(f"player number {player!r} outside [0, {len(table) - 1}]")
+    x, y, theta = table[player]
+    if defended_goal is GoalColor.BLUE:
+        return Pose2D(x, y, theta)
+    return Pose2D(-x, -y, math.pi)
