@@ -1,1 +1,17 @@
-"""The rules of a match and its interface: protocol, referee, radio, env and runner."""
+"""The rules of a match and its interface: protocol, referee, radio, env and runner.
+
+``from match import parallel_env`` gives the PettingZoo environment. It is loaded on first
+use, so that importing :mod:`match.protocol` (what agents may use) stays free of pybullet.
+"""
+
+from __future__ import annotations
+
+__all__ = ["RobotStadiumEnv", "parallel_env"]
+
+
+def __getattr__(name: str):
+    if name in __all__:
+        from match import env
+
+        return getattr(env, name)
+    raise AttributeError(f"module 'match' has no attribute {name!r}")

@@ -61,20 +61,24 @@ class GroundRenderer:
         """
         height_px, width_px = depth_buffer.shape
         rays = self._camera_rays(width_px, height_px, focal_px)
-        world_rays_z = rays @ rotation[2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = -position[2] / world_rays_z  # camera-z depth of the ground along each ray
-        hits = (world_rays_z < 0.0) & (t > self._near) & (t < self._far)
-        near, far = self._near, self._far
-        depth = depth_buffer.reshape(-1).astype(float)
-        eye_depth = np.where(depth >= BACKGROUND_DEPTH, np.inf, far * near / (far - (far - near) * depth))
-        visible = hits & (t <= eye_depth)
-        index = np.flatnonzero(visible)
+        # Only rays pointing down can meet the ground; work on those pixels alone.
+        index = np.flatnonzero(rays @ rotation[2] < 0.0)
         if index.size == 0:
             return image
-        t_vis = t[index]
-        world_x = position[0] + t_vis * (rays[index] @ rotation[0])
-        world_y = position[1] + t_vis * (rays[index] @ rotation[1])
+        down_rays = rays[index]
+        t = -position[2] / (down_rays @ rotation[2])  # camera-z depth of the ground along each ray
+        near, far = self._near, self._far
+        depth = depth_buffer.reshape(-1)[index].astype(float)
+        with np.errstate(divide="ignore"):
+            eye_depth = np.where(depth >= BACKGROUND_DEPTH, np.inf, far * near / (far - (far - near) * depth))
+        visible = (t > near) & (t < far) & (t <= eye_depth)
+        index = index[visible]
+        if index.size == 0:
+            return image
+        t_vis = t[visible]
+        down_rays = down_rays[visible]
+        world_x = position[0] + t_vis * (down_rays @ rotation[0])
+        world_y = position[1] + t_vis * (down_rays @ rotation[1])
         out = image.reshape(-1, 3)
         half_x, half_y = self._carpet_half
         on_carpet = (np.abs(world_x) < half_x) & (np.abs(world_y) < half_y)

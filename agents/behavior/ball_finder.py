@@ -1,0 +1,150 @@
+"""Orange-ball detection in one camera image, and its position on the ground.
+
+Colour segmentation (vectorized numpy, no loop over pixels), then the largest connected
+blob; the ray through its centroid is intersected with the plane ``z = ball radius`` of
+the torso frame (origin on the ground below the torso, x forward, y left, z up), where the
+ball's centre lies.
+
+The ball renders about RGB (255, 140, 0) scaled by the lighting (0.65 ambient + 0.35
+diffuse), so its green/red ratio stays near 0.55 and its blue near 0, unlike the yellow
+goal (ratio ~0.9), red waistbands (~0.1), the green carpet, white lines and grey robots.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
+from world.field import FIELD
+
+LOG = logging.getLogger(__name__)
+
+MIN_RED = 110  # the darkest shaded ball pixel is about 0.65 * 255 = 166
+MIN_GREEN_OVER_RED = 0.35
+MAX_GREEN_OVER_RED = 0.75
+MAX_BLUE_OVER_RED = 0.3
+MIN_BALL_PIXELS = 3
+MIN_FIT_POINTS = 6  # outline points needed to fit a circle to a ball cut by the image border
+MAX_DISTANCE_M = 9.0  # longer than the field diagonal: used when the ray misses the ground
+
+
+@dataclass(frozen=True)
+class BallPercept:
+    """The ball seen in one image.
+
+    ``pixel_u``, ``pixel_v``: blob centroid (pixel index coordinates, column and row);
+    ``bearing_rad``: direction of the ball in the torso frame, CCW positive (left > 0);
+    ``distance_m``: ground distance from the point below the torso to the ball's centre;
+    ``pixels``: blob size in pixels.
+    """
+
+    pixel_u: float
+    pixel_v: float
+    bearing_rad: float
+    distance_m: float
+    pixels: int
+
+    @property
+    def forward_m(self) -> float:
+        """Ball position along torso x (m)."""
+        return self.distance_m * math.cos(self.bearing_rad)
+
+    @property
+    def left_m(self) -> float:
+        """Ball position along torso y (m)."""
+        return self.distance_m * math.sin(self.bearing_rad)
+
+
+def orange_mask(image: np.ndarray) -> np.ndarray:
+    """Boolean (H, W) mask of ball-coloured pixels of an RGB uint8 image (H, W, 3)."""
+    rgb = image.astype(np.int16)
+    red, green, blue = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    return (
+        (red >= MIN_RED)
+        & (green >= MIN_GREEN_OVER_RED * red)
+        & (green <= MAX_GREEN_OVER_RED * red)
+        & (blue <= MAX_BLUE_OVER_RED * red)
+    )
+
+
+def _largest_blob(mask: np.ndarray) -> tuple[float, float, int] | None:
+    """Centre (u, v) and size of the largest 8-connected blob of ``mask``, or None.
+
+    The centre is the blob's centroid, or, when the blob touches the image border (a ball
+    cut off), the centre of a circle fitted to its outline away from the border.
+    """
+    if int(np.count_nonzero(mask)) < MIN_BALL_PIXELS:
+        return None
+    count, labels, stats, centroids = cv2.connectedComponentsWithStats(mask.astype(np.uint8), connectivity=8)
+    if count <= 1:
+        return None
+    best = int(np.argmax(stats[1:, cv2.CC_STAT_AREA])) + 1
+    size = int(stats[best, cv2.CC_STAT_AREA])
+    if size < MIN_BALL_PIXELS:
+        return None
+    u, v = (float(c) for c in centroids[best])
+    left, top, width, height = (int(stats[best, k]) for k in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+    rows, cols = mask.shape
+    if left == 0 or top == 0 or left + width == cols or top + height == rows:
+        fitted = _fit_cut_circle(labels == best)
+        if fitted is not None:
+            u, v = fitted
+    return u, v, size
+
+
+def _fit_cut_circle(blob: np.ndarray) -> tuple[float, float] | None:
+    """Centre (u, v) of a least-squares (Kasa) circle through the blob's outline off the border."""
+    contours, _ = cv2.findContours(blob.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    points = np.concatenate([c.reshape(-1, 2) for c in contours]).astype(float)
+    rows, cols = blob.shape
+    inside = (points[:, 0] > 0) & (points[:, 0] < cols - 1) & (points[:, 1] > 0) & (points[:, 1] < rows - 1)
+    points = points[inside]
+    if len(points) < MIN_FIT_POINTS:
+        return None
+    x, y = points[:, 0], points[:, 1]
+    design = np.stack([x, y, np.ones_like(x)], axis=1)
+    (d, e, f), *_ = np.linalg.lstsq(design, -(x * x + y * y), rcond=None)
+    cu, cv = -d / 2.0, -e / 2.0
+    if not (np.isfinite(cu) and np.isfinite(cv)) or cu * cu + cv * cv - f <= 0.0:
+        return None
+    return float(cu), float(cv)
+
+
+def ground_point(
+    u: float, v: float, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition, height_m: float
+) -> tuple[float, float]:
+    """Torso-frame (bearing rad, ground distance m) of the point at ``height_m`` seen at pixel (u, v).
+
+    When the ray does not descend to ``height_m`` the bearing of the ray is returned with
+    :data:`MAX_DISTANCE_M`.
+    """
+    rotation, position = NAO_HEAD.camera_in_torso(head_yaw_rad, head_pitch_rad, camera)
+    ray = rotation @ NAO_CAMERA.pixel_ray(u, v)
+    bearing = math.atan2(float(ray[1]), float(ray[0]))
+    drop = float(position[2]) - height_m
+    if ray[2] >= -1e-9 or drop <= 0.0:
+        return bearing, MAX_DISTANCE_M
+    t = drop / -float(ray[2])
+    x, y = float(position[0] + t * ray[0]), float(position[1] + t * ray[1])
+    distance = math.hypot(x, y)
+    if distance > MAX_DISTANCE_M:
+        return bearing, MAX_DISTANCE_M
+    return math.atan2(y, x), distance
+
+
+def find_ball(
+    image: np.ndarray, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition
+) -> BallPercept | None:
+    """The ball in a 160x120 RGB image taken by ``camera`` at the given head angles, or None."""
+    blob = _largest_blob(orange_mask(np.asarray(image)))
+    if blob is None:
+        return None
+    u, v, size = blob
+    bearing, distance = ground_point(u, v, head_yaw_rad, head_pitch_rad, camera, FIELD.ball_radius)
+    LOG.debug("ball at pixel (%.1f, %.1f), %d px: bearing %.2f rad, %.2f m", u, v, size, bearing, distance)
+    return BallPercept(u, v, bearing, distance, size)

@@ -1,0 +1,431 @@
+"""A simple scripted policy: an honest ball chaser for field players, a line-holding keeper.
+
+It decides only from its observation (see :mod:`match.protocol.spaces`): the camera image
+(ball found by :mod:`agents.behavior.ball_finder`), head angles, accelerometer, gyro,
+motion status, game-control view and the teammates' radio packets. No localization: the
+heading is the gyro integrated from the kick-off heading.
+
+Frames: torso frame x forward, y left, bearings CCW positive; field headings CCW from +x
+(toward the yellow goal). One control step is :data:`CONTROL_STEP_S`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import struct
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from agents.behavior.ball_finder import BallPercept, find_ball
+from match.protocol import (
+    MOTIONS,
+    NO_MOTION,
+    CameraChoice,
+    GameState,
+    Motion,
+    action_space,
+    make_action,
+)
+from world.camera_model import NAO_HEAD, CameraPosition
+from world.field import FIELD, normalize_angle
+
+LOG = logging.getLogger(__name__)
+
+CONTROL_STEP_S = 0.04
+
+# Walk and head limits of the action space (float32 bounds, so clipping keeps actions inside it).
+_WALK_BOX = action_space()["walk"]
+WALK_LOW = tuple(float(x) for x in _WALK_BOX.low)  # vx m/s, vy m/s, omega rad/s
+WALK_HIGH = tuple(float(x) for x in _WALK_BOX.high)
+_HEAD_MARGIN_RAD = 1e-3
+YAW_LIMITS_RAD = (NAO_HEAD.yaw_limits_rad[0] + _HEAD_MARGIN_RAD, NAO_HEAD.yaw_limits_rad[1] - _HEAD_MARGIN_RAD)
+PITCH_LIMITS_RAD = (NAO_HEAD.pitch_limits_rad[0] + _HEAD_MARGIN_RAD, NAO_HEAD.pitch_limits_rad[1] - _HEAD_MARGIN_RAD)
+
+# Head scanning (ball unknown, or not playing).
+SCAN_PITCH_RAD = 0.3
+SCAN_AMPLITUDE_RAD = math.radians(100.0)
+SEARCH_SCAN_RATE_RADPS = 1.5
+IDLE_SCAN_RATE_RADPS = 0.5
+FULL_SWEEP_REVERSALS = 2  # one end and then the other: the whole range was looked at
+SEARCH_TURN_RADPS = 0.8
+SEARCH_TURN_STEPS = 50  # about 90 degrees at SEARCH_TURN_RADPS
+
+# Ball memory and cameras.
+BALL_MEMORY_STEPS = 12
+BOTTOM_CAMERA_BELOW_M = 0.6  # the top camera cannot see the ground nearer than about 0.5 m
+TOP_CAMERA_BEYOND_M = 0.8  # hysteresis
+
+# Field player.
+TURN_IN_PLACE_RAD = 0.35
+TURN_GAIN_PER_S = 2.0  # omega = gain * bearing
+MIN_TURN_RADPS = 0.4
+APPROACH_GAIN_PER_S = 0.6  # vx = gain * (distance - APPROACH_STOP_M)
+APPROACH_STOP_M = 0.12
+MIN_APPROACH_MPS = 0.05
+KICK_DISTANCE_M = 0.2
+KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
+ORBIT_RADPS = 0.5
+ORBIT_DISTANCE_M = 0.15
+ORBIT_DISTANCE_GAIN_PER_S = 0.5
+YIELD_MARGIN_M = 0.3  # hold position when a teammate is this much nearer to the ball
+
+# Goalkeeper.
+KEEPER_PLAYER = 0
+KEEPER_REACT_DISTANCE_M = 2.5
+KEEPER_KICK_DISTANCE_M = 0.25
+KEEPER_KICK_BEARING_RAD = 0.5
+KEEPER_SIDE_GAIN_PER_S = 1.0  # vy = gain * ball lateral offset
+KEEPER_HEADING_GAIN_PER_S = 1.0
+KEEPER_MAX_TURN_RADPS = 0.5
+
+# Radio.
+RADIO_EVERY_STEPS = 5
+REPORT = struct.Struct("<Bff")  # player, ball distance m (-1 unknown), ball bearing rad
+TEAMMATE_MEMORY_STEPS = 12
+UNKNOWN_DISTANCE_M = -1.0
+
+_CAMERA_POSITION = {CameraChoice.TOP: CameraPosition.TOP, CameraChoice.BOTTOM: CameraPosition.BOTTOM}
+_CAMERA_CHOICE = {CameraPosition.TOP: CameraChoice.TOP, CameraPosition.BOTTOM: CameraChoice.BOTTOM}
+_PERSISTENT_MOTIONS = (Motion.KICK_LEFT, Motion.KICK_RIGHT, Motion.STAND_UP_FROM_FRONT, Motion.STAND_UP_FROM_BACK)
+_STILL = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class TeammateReport:
+    """A teammate's ball report: its distance (m, -1 unknown) and bearing (rad, its torso frame)."""
+
+    player: int
+    ball_distance_m: float
+    ball_bearing_rad: float
+
+
+@dataclass(frozen=True)
+class Observed:
+    """What one observation says, in plain types."""
+
+    state: GameState
+    player: int
+    defended_goal: int  # 0 blue (x = -3), 1 yellow (x = +3)
+    fallen: bool
+    accelerometer_x_mps2: float
+    gyro_z_radps: float
+    motion: Motion | None  # playing now, None when idle
+    head_yaw_rad: float
+    head_pitch_rad: float
+    camera: CameraChoice
+    image: np.ndarray
+    reports: tuple[TeammateReport, ...]
+
+
+@dataclass(frozen=True)
+class Command:
+    """What to do this step: a motion (with its walk velocity) and where to look."""
+
+    motion: Motion
+    walk: tuple[float, float, float] = _STILL
+    head: tuple[float, float] = (0.0, SCAN_PITCH_RAD)
+
+
+def read_observation(obs: dict) -> Observed:
+    """Unpack an observation dict of :func:`match.protocol.observation_space`."""
+    game = obs["game"]
+    player = int(game["player"])
+    motion_index = int(obs["motion"])
+    return Observed(
+        state=GameState(int(game["state"])),
+        player=player,
+        defended_goal=int(game["defended_goal"]),
+        fallen=int(obs["fallen"]) == 1,
+        accelerometer_x_mps2=float(obs["accelerometer"][0]),
+        gyro_z_radps=float(obs["gyro"][2]),
+        motion=MOTIONS[motion_index] if 0 <= motion_index < NO_MOTION else None,
+        head_yaw_rad=float(obs["head"][0]),
+        head_pitch_rad=float(obs["head"][1]),
+        camera=CameraChoice(int(obs["camera"])),
+        image=obs["image"],
+        reports=decode_reports(obs["radio"], player),
+    )
+
+
+def encode_report(player: int, ball: BallPercept | None) -> bytes:
+    """The radio packet announcing this robot's ball estimate."""
+    if ball is None:
+        return REPORT.pack(player, UNKNOWN_DISTANCE_M, 0.0)
+    return REPORT.pack(player, ball.distance_m, ball.bearing_rad)
+
+
+def decode_reports(radio: dict, own_player: int) -> tuple[TeammateReport, ...]:
+    """Teammates' ball reports in the inbox; packets of another layout are ignored."""
+    reports = []
+    for i in range(int(radio["count"])):
+        sender, length = int(radio["sender"][i]), int(radio["length"][i])
+        if sender == own_player or length != REPORT.size:
+            continue
+        player, distance, bearing = REPORT.unpack(np.asarray(radio["data"][i][:length], dtype=np.uint8).tobytes())
+        if player == sender and math.isfinite(distance) and math.isfinite(bearing):
+            reports.append(TeammateReport(sender, distance, bearing))
+    return tuple(reports)
+
+
+def kickoff_heading(defended_goal: int) -> float:
+    """Field heading at kick-off, which is also the attacked direction: +x when defending blue."""
+    return 0.0 if defended_goal == 0 else math.pi
+
+
+def stand_up_for(accelerometer_x_mps2: float) -> Motion:
+    """Lying on the back reads about +9.81 m/s^2 on torso x, on the front about -9.81."""
+    return Motion.STAND_UP_FROM_BACK if accelerometer_x_mps2 > 0.0 else Motion.STAND_UP_FROM_FRONT
+
+
+def walk_command(vx: float, vy: float, omega: float) -> tuple[float, float, float]:
+    """(vx, vy, omega) clipped to the walk limits."""
+    return tuple(float(min(max(v, lo), hi)) for v, lo, hi in zip((vx, vy, omega), WALK_LOW, WALK_HIGH))
+
+
+def clip_head(yaw_rad: float, pitch_rad: float) -> tuple[float, float]:
+    return (
+        min(max(yaw_rad, YAW_LIMITS_RAD[0]), YAW_LIMITS_RAD[1]),
+        min(max(pitch_rad, PITCH_LIMITS_RAD[0]), PITCH_LIMITS_RAD[1]),
+    )
+
+
+def look_at(ball: BallPercept, camera: CameraPosition) -> tuple[float, float]:
+    """Head (yaw, pitch) that centres the ball in ``camera`` (approximately; rad)."""
+    mount = NAO_HEAD.mount(camera)
+    height = NAO_HEAD.neck_height_m + mount.up_m - FIELD.ball_radius
+    ahead = max(ball.distance_m - mount.forward_m, 0.01)
+    return clip_head(ball.bearing_rad, math.atan2(height, ahead) - mount.pitch_rad)
+
+
+def turn_toward(bearing_rad: float) -> tuple[float, float, float]:
+    """Turn in place toward a bearing."""
+    omega = TURN_GAIN_PER_S * bearing_rad
+    return walk_command(0.0, 0.0, math.copysign(max(abs(omega), MIN_TURN_RADPS), bearing_rad))
+
+
+def approach(ball: BallPercept) -> tuple[float, float, float]:
+    """Walk forward to the ball, steering toward it."""
+    vx = max(APPROACH_GAIN_PER_S * (ball.distance_m - APPROACH_STOP_M), MIN_APPROACH_MPS)
+    return walk_command(vx, 0.0, TURN_GAIN_PER_S * ball.bearing_rad)
+
+
+def orbit(ball: BallPercept, turn_rad: float) -> tuple[float, float, float]:
+    """Side-step around the ball (vy opposite to omega) to turn by ``turn_rad`` while facing it."""
+    omega = math.copysign(ORBIT_RADPS, turn_rad)
+    vx = ORBIT_DISTANCE_GAIN_PER_S * (ball.distance_m - ORBIT_DISTANCE_M)
+    return walk_command(vx, -omega * max(ball.distance_m, ORBIT_DISTANCE_M), omega + TURN_GAIN_PER_S * ball.bearing_rad)
+
+
+def kick_for(ball: BallPercept) -> Motion:
+    return Motion.KICK_LEFT if ball.left_m > 0.0 else Motion.KICK_RIGHT
+
+
+def chase(ball: BallPercept, heading_error_rad: float) -> tuple[Motion, tuple[float, float, float]]:
+    """Field player with the ball in sight: turn to it, walk to it, kick it toward the goal.
+
+    ``heading_error_rad``: attacked direction minus estimated heading, normalized.
+    """
+    if abs(ball.bearing_rad) > TURN_IN_PLACE_RAD:
+        return Motion.WALK, turn_toward(ball.bearing_rad)
+    if ball.distance_m >= KICK_DISTANCE_M:
+        return Motion.WALK, approach(ball)
+    if abs(heading_error_rad) <= KICK_HEADING_TOLERANCE_RAD:
+        return kick_for(ball), _STILL
+    return Motion.WALK, orbit(ball, heading_error_rad)
+
+
+def keep_goal(ball: BallPercept, heading_error_rad: float) -> tuple[Motion, tuple[float, float, float]]:
+    """Goalkeeper with the ball in sight: side-step in front of it, kick it when it is close."""
+    if ball.distance_m < KEEPER_KICK_DISTANCE_M and abs(ball.bearing_rad) < KEEPER_KICK_BEARING_RAD:
+        return kick_for(ball), _STILL
+    if ball.distance_m > KEEPER_REACT_DISTANCE_M:
+        return Motion.STAND, _STILL
+    omega = KEEPER_HEADING_GAIN_PER_S * heading_error_rad
+    omega = min(max(omega, -KEEPER_MAX_TURN_RADPS), KEEPER_MAX_TURN_RADPS)
+    return Motion.WALK, walk_command(0.0, KEEPER_SIDE_GAIN_PER_S * ball.left_m, omega)
+
+
+@dataclass
+class HeadScan:
+    """A triangular head-yaw sweep across +-SCAN_AMPLITUDE_RAD, counting its reversals."""
+
+    yaw_rad: float = 0.0
+    direction: float = 1.0
+    reversals: int = 0
+
+    def restart(self, yaw_rad: float, direction: float) -> None:
+        self.yaw_rad = min(max(yaw_rad, -SCAN_AMPLITUDE_RAD), SCAN_AMPLITUDE_RAD)
+        self.direction = 1.0 if direction >= 0.0 else -1.0
+        self.reversals = 0
+
+    def advance(self, rate_radps: float) -> float:
+        """Move the yaw target one control step on; return it (rad)."""
+        self.yaw_rad += self.direction * rate_radps * CONTROL_STEP_S
+        if abs(self.yaw_rad) >= SCAN_AMPLITUDE_RAD:
+            self.yaw_rad = math.copysign(SCAN_AMPLITUDE_RAD, self.yaw_rad)
+            self.direction = -math.copysign(1.0, self.yaw_rad)
+            self.reversals += 1
+        return self.yaw_rad
+
+    @property
+    def swept(self) -> bool:
+        return self.reversals >= FULL_SWEEP_REVERSALS
+
+
+@dataclass
+class _Memory:
+    """What the player carries from step to step."""
+
+    step: int = 0
+    heading_rad: float = 0.0
+    ball: BallPercept | None = None
+    ball_age: int = BALL_MEMORY_STEPS + 1
+    camera: CameraPosition = CameraPosition.TOP
+    scan: HeadScan = field(default_factory=HeadScan)
+    searching: bool = False
+    search_turn_steps: int = 0
+    last_bearing_rad: float = 0.0
+    teammates: dict[int, tuple[float, int]] = field(default_factory=dict)  # player -> (ball distance m, step)
+
+
+class ScriptedPlayer:
+    """The scripted policy of one robot: ``act(observation) -> action dict``."""
+
+    def __init__(self, agent: str, *, camera_every_steps: int = 2):
+        if camera_every_steps < 1:
+            raise ValueError(f"camera_every_steps={camera_every_steps!r}; expected an integer >= 1")
+        self.agent = agent
+        self.camera_every_steps = int(camera_every_steps)
+        self._m = _Memory()
+
+    def reset(self) -> None:
+        """Forget everything (a new match or half)."""
+        self._m = _Memory()
+
+    # ---- the step -----------------------------------------------------------------------
+
+    def act(self, observation: dict) -> dict:
+        """The action for one control step."""
+        obs = read_observation(observation)
+        self._update_heading(obs)
+        self._update_ball(obs)
+        self._update_teammates(obs)
+        command = self._decide(obs)
+        camera = self._camera_choice()
+        radio = encode_report(obs.player, self._known_ball()) if self._m.step % RADIO_EVERY_STEPS == 0 else b""
+        self._m.step += 1
+        return make_action(command.motion, walk=command.walk, head=clip_head(*command.head), camera=camera, radio=radio)
+
+    # ---- beliefs ------------------------------------------------------------------------
+
+    def _update_heading(self, obs: Observed) -> None:
+        """Integrate gyro z; reset to the kick-off heading in INITIAL and SET."""
+        if obs.state in (GameState.INITIAL, GameState.SET):
+            self._m.heading_rad = kickoff_heading(obs.defended_goal)
+        elif not obs.fallen and not (obs.motion is not None and obs.motion.is_stand_up):
+            self._m.heading_rad = normalize_angle(self._m.heading_rad + obs.gyro_z_radps * CONTROL_STEP_S)
+
+    def _update_ball(self, obs: Observed) -> None:
+        self._m.ball_age += 1
+        if obs.camera is CameraChoice.OFF or obs.fallen:
+            return
+        percept = find_ball(obs.image, obs.head_yaw_rad, obs.head_pitch_rad, _CAMERA_POSITION[obs.camera])
+        if percept is not None:
+            self._m.ball, self._m.ball_age = percept, 0
+            self._m.last_bearing_rad = percept.bearing_rad
+
+    def _update_teammates(self, obs: Observed) -> None:
+        for report in obs.reports:
+            self._m.teammates[report.player] = (report.ball_distance_m, self._m.step)
+
+    def _known_ball(self) -> BallPercept | None:
+        return self._m.ball if self._m.ball_age <= BALL_MEMORY_STEPS else None
+
+    def _teammate_nearer(self, player: int, distance_m: float) -> bool:
+        """A teammate field player heard recently is YIELD_MARGIN_M nearer to the ball."""
+        for mate, (mate_distance, heard) in self._m.teammates.items():
+            recent = self._m.step - heard <= TEAMMATE_MEMORY_STEPS
+            if mate not in (player, KEEPER_PLAYER) and recent and 0.0 <= mate_distance < distance_m - YIELD_MARGIN_M:
+                return True
+        return False
+
+    def _heading_error(self, obs: Observed) -> float:
+        return normalize_angle(kickoff_heading(obs.defended_goal) - self._m.heading_rad)
+
+    # ---- decisions ----------------------------------------------------------------------
+
+    def _decide(self, obs: Observed) -> Command:
+        if obs.motion is not None and obs.motion.is_stand_up:
+            return Command(obs.motion, head=(0.0, 0.0))
+        if obs.fallen:
+            motion = stand_up_for(obs.accelerometer_x_mps2)
+            LOG.debug("%s: fallen, %s", self.agent, motion.value)
+            return Command(motion, head=(0.0, 0.0))
+        if obs.state is not GameState.PLAYING:
+            return Command(Motion.STAND, head=self._scan(IDLE_SCAN_RATE_RADPS))
+        ball = self._known_ball()
+        head = self._track(ball) if ball is not None else self._scan(SEARCH_SCAN_RATE_RADPS)
+        if obs.motion is not None and obs.motion.is_kick:
+            return Command(obs.motion, head=head)
+        if obs.player == KEEPER_PLAYER:
+            return self._goalkeeper(obs, ball, head)
+        return self._field_player(obs, ball, head)
+
+    def _field_player(self, obs: Observed, ball: BallPercept | None, head: tuple[float, float]) -> Command:
+        if ball is None:
+            return Command(Motion.WALK, self._search_turn(), head) if self._search_turning() else Command(Motion.STAND, head=head)
+        if self._teammate_nearer(obs.player, ball.distance_m):
+            return Command(Motion.STAND, head=head)
+        motion, walk = chase(ball, self._heading_error(obs))
+        if motion.is_kick:
+            LOG.debug("%s: %s, ball %.2f m at %.2f rad", self.agent, motion.value, ball.distance_m, ball.bearing_rad)
+        return Command(motion, walk, head)
+
+    def _goalkeeper(self, obs: Observed, ball: BallPercept | None, head: tuple[float, float]) -> Command:
+        if ball is None:
+            return Command(Motion.STAND, head=head)
+        motion, walk = keep_goal(ball, self._heading_error(obs))
+        return Command(motion, walk, head)
+
+    # ---- head and camera ----------------------------------------------------------------
+
+    def _track(self, ball: BallPercept) -> tuple[float, float]:
+        """Look at the ball with the camera that can see it at its distance."""
+        self._m.searching = False
+        if ball.distance_m < BOTTOM_CAMERA_BELOW_M:
+            self._m.camera = CameraPosition.BOTTOM
+        elif ball.distance_m > TOP_CAMERA_BEYOND_M:
+            self._m.camera = CameraPosition.TOP
+        return look_at(ball, self._m.camera)
+
+    def _scan(self, rate_radps: float) -> tuple[float, float]:
+        """Sweep the head with the top camera, starting where the ball was last seen."""
+        if not self._m.searching:
+            self._m.searching = True
+            self._m.search_turn_steps = 0
+            self._m.scan.restart(self._m.scan.yaw_rad if self._m.ball is None else self._m.ball.bearing_rad,
+                                 self._m.last_bearing_rad)
+        self._m.camera = CameraPosition.TOP
+        return self._m.scan.advance(rate_radps), SCAN_PITCH_RAD
+
+    def _search_turning(self) -> bool:
+        """After a full sweep without the ball, turn in place for SEARCH_TURN_STEPS, then sweep again."""
+        if self._m.search_turn_steps == 0 and self._m.scan.swept:
+            self._m.search_turn_steps = SEARCH_TURN_STEPS
+        if self._m.search_turn_steps == 0:
+            return False
+        self._m.search_turn_steps -= 1
+        if self._m.search_turn_steps == 0:
+            self._m.scan.reversals = 0
+        return True
+
+    def _search_turn(self) -> tuple[float, float, float]:
+        return walk_command(0.0, 0.0, math.copysign(SEARCH_TURN_RADPS, self._m.last_bearing_rad or 1.0))
+
+    def _camera_choice(self) -> CameraChoice:
+        """The camera on every ``camera_every_steps``-th step, off otherwise."""
+        if self._m.step % self.camera_every_steps != 0:
+            return CameraChoice.OFF
+        return _CAMERA_CHOICE[self._m.camera]

@@ -1,0 +1,202 @@
+"""The Match: a plain game class that owns the world, the referee and the radio.
+
+One :meth:`Match.step` is one control step (40 ms): every action is checked first (a bad
+one raises and nothing is applied), then heads, cameras, motions and radio packets are
+applied, the world steps, the referee judges, cameras are rendered for the robots whose
+camera is on, and the observations are built. :mod:`match.env` adapts it to PettingZoo.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping
+from dataclasses import dataclass
+from dataclasses import field as default
+
+import numpy as np
+
+from match.errors import InvalidActionError, MatchError, UnknownAgentError
+from match.events import MatchEvent
+from match.observations import build_observation, game_observation, radio_observation
+from match.protocol.actions import Action, parse_action
+from match.protocol.game_control import GameControlView
+from match.protocol.ids import AgentId, Side, roster
+from match.protocol.spaces import CameraChoice
+from match.radio import Radio, RadioConfig
+from match.referee import Referee, RefereeConfig
+from world.camera_model import CameraPosition
+from world.config import RobotSpec, WorldConfig
+from world.errors import InvalidCommandError
+from world.motions import Motion
+from world.teams import TeamColor
+from world.world import World
+
+log = logging.getLogger(__name__)
+
+_CAMERA_POSITION = {CameraChoice.TOP: CameraPosition.TOP, CameraChoice.BOTTOM: CameraPosition.BOTTOM}
+
+
+@dataclass(frozen=True)
+class MatchConfig:
+    home_players: int = 4
+    away_players: int = 4
+    referee: RefereeConfig = default(default_factory=RefereeConfig)
+    radio: RadioConfig = default(default_factory=RadioConfig)
+    world: WorldConfig = default(default_factory=WorldConfig)
+    initial_camera: CameraChoice = CameraChoice.TOP
+
+    def __post_init__(self) -> None:
+        roster(self.home_players, self.away_players)  # raises on bad team sizes
+
+
+@dataclass(frozen=True)
+class StepResult:
+    observations: dict[str, dict]
+    rewards: dict[str, float]
+    events: tuple[MatchEvent, ...]
+    finished: bool
+
+
+class Match:
+    """A match between two teams of 1-4 robots. Build once, :meth:`reset` for every new match."""
+
+    def __init__(self, config: MatchConfig | None = None, *, gui: bool = False):
+        self.config = config or MatchConfig()
+        self.agents: tuple[AgentId, ...] = roster(self.config.home_players, self.config.away_players)
+        self.agent_names: tuple[str, ...] = tuple(str(a) for a in self.agents)
+        self._by_name = dict(zip(self.agent_names, self.agents))
+        specs = [RobotSpec(str(a), TeamColor.BLUE if a.side is Side.HOME else TeamColor.RED) for a in self.agents]
+        self.world = World(specs, self.config.world, gui=gui)
+        self.referee = Referee(self.world, self.agents, self.config.referee)
+        self.radio = Radio(self.agents, self.config.radio, self.config.world.physics.control_step_s)
+        self.step_index = 0
+        self.events: list[MatchEvent] = []
+        self._cameras: dict[AgentId, CameraChoice] = {}
+        self._started = False
+
+    # ---- life cycle -------------------------------------------------------------------
+
+    def reset(self, seed: int = 0) -> dict[str, dict]:
+        """Start a new match from the world's initial state; the same seed gives the same match."""
+        world_seed, radio_seed = np.random.SeedSequence(seed).spawn(2)
+        self.world.reset(np.random.default_rng(world_seed))
+        self.radio.reset(np.random.default_rng(radio_seed))
+        self.step_index = 0
+        self.events = []
+        self._cameras = {a: self.config.initial_camera for a in self.agents}
+        for agent in self.agents:
+            if self.config.initial_camera in _CAMERA_POSITION:
+                self.world.set_camera(str(agent), _CAMERA_POSITION[self.config.initial_camera])
+        self.events.extend(self.referee.start().events)
+        self._started = True
+        return self.observe({a: [] for a in self.agents})
+
+    def close(self) -> None:
+        self.world.close()
+
+    @property
+    def finished(self) -> bool:
+        return self.referee.finished
+
+    # ---- stepping ---------------------------------------------------------------------
+
+    def check_actions(self, actions: Mapping[str, object]) -> dict[AgentId, Action]:
+        """Every action parsed and checked; agents without one stand. Raises before anything changes."""
+        if not isinstance(actions, Mapping):
+            raise MatchError(f"actions must be a dict of agent id -> action; got {type(actions).__name__}")
+        for name in actions:
+            if name not in self._by_name:
+                raise UnknownAgentError(name, self.agent_names)
+        checked = {agent: parse_action(str(agent), actions.get(str(agent))) for agent in self.agents}
+        for agent, action in checked.items():
+            if action.motion is Motion.WALK:
+                try:
+                    self.config.world.walk_limits.check(*action.walk)
+                except InvalidCommandError as error:
+                    raise InvalidActionError(str(agent), "walk", action.walk, str(error)) from None
+        return checked
+
+    def step(self, actions: Mapping[str, object]) -> StepResult:
+        if not self._started:
+            raise MatchError("call reset() before step()")
+        if self.finished:
+            raise MatchError("the match is finished; call reset() to start a new one")
+        checked = self.check_actions(actions)
+        sent_now = self.world.time_s
+        for agent, action in checked.items():
+            self._apply(agent, action)
+            if action.radio:
+                self.radio.send(agent, action.radio, sent_now, self.step_index)
+        self.world.step()
+        self.step_index += 1
+        update = self.referee.update()
+        self.events.extend(update.events)
+        rewards = {name: 0.0 for name in self.agent_names}
+        for scorer in update.goals:
+            for agent in self.agents:
+                rewards[str(agent)] += 1.0 if agent.side is scorer else -1.0
+        positions = self._positions() if self.config.radio.range_m is not None else None
+        inboxes = self.radio.deliver(self.step_index, positions)
+        return StepResult(self.observe(inboxes), rewards, update.events, self.finished)
+
+    def _apply(self, agent: AgentId, action: Action) -> None:
+        robot = str(agent)
+        if action.head is not None:
+            self.world.set_head(robot, *action.head)
+        if action.camera is not None:
+            self._cameras[agent] = action.camera
+            if action.camera in _CAMERA_POSITION:
+                self.world.set_camera(robot, _CAMERA_POSITION[action.camera])
+        motion = action.motion
+        if self.referee.holds(agent) and not motion.is_stand_up:
+            motion = Motion.STAND
+        if motion is Motion.WALK:
+            self.world.command_walk(robot, *action.walk)
+        else:
+            self.world.command_motion(robot, motion)
+
+    # ---- what agents get --------------------------------------------------------------
+
+    def observe(self, inboxes: Mapping[AgentId, list]) -> dict[str, dict]:
+        readings = self.world.sensors_all(self.agent_names)
+        broadcast = self.referee.broadcast
+        views: dict[Side, GameControlView] = {side: broadcast.view_for(side) for side in Side}
+        observations = {}
+        for agent in self.agents:
+            robot = str(agent)
+            camera_on = self._cameras[agent] is not CameraChoice.OFF
+            image = self.world.render_camera(robot) if camera_on else None
+            observations[robot] = build_observation(
+                agent,
+                readings[robot],
+                image,
+                game_observation(views[agent.side], agent.player),
+                radio_observation(inboxes.get(agent, []), self.radio.take_drops(agent)),
+            )
+        return observations
+
+    # ---- ground truth (evaluation only) -------------------------------------------------
+
+    def truth(self) -> dict:
+        """True poses of every robot and the ball: for infos in privileged mode and for logs."""
+        robots = {}
+        for agent in self.agents:
+            t = self.world.robot_truth(str(agent))
+            robots[str(agent)] = {"pose": (t.pose.x, t.pose.y, t.pose.theta), "fallen": t.fallen}
+        ball = self.world.ball()
+        return {
+            "time_s": self.world.time_s,
+            "robots": robots,
+            "ball": {"position": (ball.x, ball.y, ball.z), "velocity": (ball.vx, ball.vy), "last_toucher": ball.last_toucher},
+        }
+
+    def _positions(self) -> dict[AgentId, tuple[float, float]]:
+        positions = {}
+        for agent in self.agents:
+            pose = self.world.robot_pose(str(agent))
+            positions[agent] = (pose.x, pose.y)
+        return positions
+
+    @property
+    def score(self) -> dict[str, int]:
+        return {side.value: self.referee.score[side] for side in Side}

@@ -1,0 +1,525 @@
+"""The referee (the RobotStadium supervisor): a state machine that reads the world and moves things.
+
+It never renders and never reads a wall clock: every timing is simulated time read from the
+pitch after each control step. It reads the ball (position, last toucher) and the robots'
+true poses, and it places robots and the ball as a human referee would. The rules it
+applies are in :mod:`match.rules`; their facts are in DESIGN.md section 4.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+from match.errors import MatchConfigError
+from match.events import EventKind, MatchEvent
+from match.protocol.game_control import GameControlData, GameState, SecondaryState
+from match.protocol.ids import AgentId, Side
+from match.protocol.kickoff import kickoff_pose
+from match.rules import (
+    BallOut,
+    OutKind,
+    ball_out,
+    goal_crossed,
+    legal_kickoff_position,
+    shift_off_robots,
+    sideline_pose,
+    throw_in_spot,
+)
+from match.shootout import ShootoutKick, ShootoutTally
+from world.ball import BallState
+from world.field import FIELD, GoalColor, Pose2D
+from world.teams import TeamColor
+
+log = logging.getLogger(__name__)
+
+SHOOTOUT_GOAL = GoalColor.YELLOW  # every shoot-out kick is taken at this goal
+SHOOTOUT_KICKER_BEHIND_BALL_M = 0.22
+GOALKEEPER_LINE_X_M = 2.85  # |x| of a goalkeeper placed on its goal line
+BALL_AT_REST_MPS = 0.02
+OFF_FIELD_Y_M = FIELD.carpet_half_width + 0.3  # where robots out of a shoot-out wait
+
+
+class Pitch(Protocol):
+    """What the referee needs of the world (:class:`world.world.World` provides it)."""
+
+    time_s: float
+
+    def ball(self) -> BallState: ...
+
+    def robot_truth(self, robot_id: str): ...
+
+    def place_robot(self, robot_id: str, pose: Pose2D) -> None: ...
+
+    def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None: ...
+
+    def set_team_color(self, robot_id: str, team: TeamColor) -> None: ...
+
+
+@dataclass(frozen=True)
+class RefereeConfig:
+    """Timings in simulated seconds. ``fallen_limit_s`` None: fallen robots are left alone."""
+
+    half_seconds: float = 600.0
+    initial_seconds: float = 2.0
+    ready_seconds: float = 15.0
+    set_seconds: float = 3.0
+    ball_out_wait_seconds: float = 2.0
+    game_control_period_seconds: float = 0.5
+    first_kickoff_color: TeamColor = TeamColor.BLUE  # kicks off each half (thesis 2.2.5)
+    replace_off_carpet: bool = True
+    fallen_limit_s: float | None = 30.0
+    touch_gap_seconds: float = 0.2  # contacts further apart than this are separate touches
+    shootout: bool = True
+    shootout_kicks: int = 5
+    sudden_death: bool = True
+    max_sudden_death_rounds: int = 10
+    shootout_attempt_seconds: float = 60.0
+    shootout_rest_seconds: float = 2.0  # a touched ball at rest this long ends a kick
+
+    def __post_init__(self) -> None:
+        positive = ("half_seconds", "game_control_period_seconds", "shootout_attempt_seconds", "touch_gap_seconds")
+        non_negative = ("initial_seconds", "ready_seconds", "set_seconds", "ball_out_wait_seconds", "shootout_rest_seconds")
+        for name in positive + non_negative:
+            value = getattr(self, name)
+            ok = isinstance(value, (int, float)) and math.isfinite(value) and (value > 0 if name in positive else value >= 0)
+            if not ok:
+                raise MatchConfigError(f"referee {name} = {value!r}; expected a finite number {'> 0' if name in positive else '>= 0'}")
+        if self.fallen_limit_s is not None and not (math.isfinite(self.fallen_limit_s) and self.fallen_limit_s > 0):
+            raise MatchConfigError(f"referee fallen_limit_s = {self.fallen_limit_s!r}; expected a number > 0 or None")
+        for name in ("shootout_kicks", "max_sudden_death_rounds"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or value < (1 if name == "shootout_kicks" else 0):
+                raise MatchConfigError(f"referee {name} = {value!r}; expected an integer >= {1 if name == 'shootout_kicks' else 0}")
+
+
+@dataclass(frozen=True)
+class RefereeUpdate:
+    """What one referee update produced: new events and the sides that scored."""
+
+    events: tuple[MatchEvent, ...]
+    goals: tuple[Side, ...]
+
+
+@dataclass
+class _PendingOut:
+    out: BallOut
+    toucher_defends: GoalColor | None
+    since_s: float
+
+
+@dataclass
+class _ShootoutAttempt:
+    side: Side
+    kicker: str
+    keeper: str | None
+    start_s: float | None = None  # PLAYING began
+    kicker_touched: bool = False
+    rest_since_s: float | None = None
+
+
+class Referee:
+    """Runs a match on ``pitch`` for the robots ``agents`` (robot id = ``str(agent)``)."""
+
+    def __init__(self, pitch: Pitch, agents: Sequence[AgentId], config: RefereeConfig | None = None):
+        self.pitch = pitch
+        self.config = config or RefereeConfig()
+        self.agents = tuple(agents)
+        self._ids = {a: str(a) for a in self.agents}
+        self.reset()
+
+    # ---- public state -----------------------------------------------------------------
+
+    def reset(self) -> None:
+        """Back to the start of a match (call :meth:`start` next)."""
+        self.state = GameState.INITIAL
+        self.secondary = SecondaryState.NORMAL
+        self.half = 1
+        self.home_color = TeamColor.BLUE
+        self.home_defends = GoalColor.BLUE
+        self.kickoff: Side | None = None
+        self.score = {Side.HOME: 0, Side.AWAY: 0}
+        self.seconds_remaining = self.config.half_seconds
+        self.events: list[MatchEvent] = []
+        self.broadcast: GameControlData | None = None
+        self.shootout: ShootoutTally | None = None
+        self._attempt: _ShootoutAttempt | None = None
+        self._entered_s = 0.0
+        self._last_update_s = 0.0
+        self._next_broadcast_s = 0.0
+        self._pending_out: _PendingOut | None = None
+        self._kickoff_shot_open = False
+        self._ball_left_circle = False
+        self._last_touch: tuple[str | None, float | None] = (None, None)
+        self._fallen_since: dict[str, float] = {}
+        self._new_events: list[MatchEvent] = []
+        self._new_goals: list[Side] = []
+
+    def color_of(self, side: Side) -> TeamColor:
+        return self.home_color if side is Side.HOME else self.home_color.other
+
+    def defended_goal(self, side: Side) -> GoalColor:
+        return self.home_defends if side is Side.HOME else self.home_defends.other
+
+    def side_of_color(self, color: TeamColor) -> Side:
+        return Side.HOME if self.home_color is color else Side.AWAY
+
+    def game_control(self) -> GameControlData:
+        """The game-control data as of now (broadcasts are snapshots of this)."""
+        shootout = (0, 0)
+        if self.shootout is not None:
+            shootout = (self.shootout.goals(Side.HOME), self.shootout.goals(Side.AWAY))
+        return GameControlData(
+            state=self.state,
+            secondary=self.secondary,
+            kickoff=self.kickoff,
+            score=(self.score[Side.HOME], self.score[Side.AWAY]),
+            shootout_score=shootout,
+            seconds_remaining=max(0.0, self.seconds_remaining),
+            half=self.half,
+            home_color=self.home_color,
+            home_defends=self.home_defends,
+            time_s=self.pitch.time_s,
+        )
+
+    def holds(self, agent: AgentId) -> bool:
+        """Whether the robot must stand still now (INITIAL, SET, FINISHED, or out of a shoot-out kick)."""
+        if self.state in (GameState.INITIAL, GameState.SET, GameState.FINISHED):
+            return True
+        if self.secondary is SecondaryState.PENALTY_SHOOTOUT and self._attempt is not None:
+            return self._ids[agent] not in (self._attempt.kicker, self._attempt.keeper)
+        return False
+
+    @property
+    def finished(self) -> bool:
+        return self.state is GameState.FINISHED
+
+    # ---- driving ----------------------------------------------------------------------
+
+    def start(self) -> RefereeUpdate:
+        """Begin the first half: robots at their kick-off positions, state INITIAL."""
+        self.reset()
+        now = self.pitch.time_s
+        self._last_update_s = now
+        self._next_broadcast_s = now
+        self.kickoff = self.side_of_color(self.config.first_kickoff_color)
+        for agent in self.agents:
+            self.pitch.set_team_color(self._ids[agent], self.color_of(agent.side))
+        self._enter(GameState.INITIAL, now)
+        self._place_for_kickoff(only_illegal=False)
+        self._maybe_broadcast(now)
+        return self._flush()
+
+    def update(self) -> RefereeUpdate:
+        """Judge the world after one control step; place things; return what happened."""
+        now = self.pitch.time_s
+        dt = max(0.0, now - self._last_update_s)
+        self._last_update_s = now
+        elapsed = now - self._entered_s
+        cfg = self.config
+        if self.state is GameState.INITIAL and elapsed >= cfg.initial_seconds - 1e-9:
+            self._enter(GameState.READY, now)
+        elif self.state is GameState.READY and elapsed >= cfg.ready_seconds - 1e-9:
+            self._enter(GameState.SET, now)
+            self._place_for_kickoff(only_illegal=True)
+        elif self.state is GameState.SET and elapsed >= cfg.set_seconds - 1e-9:
+            self._enter(GameState.PLAYING, now)
+            self._begin_play(now)
+        elif self.state is GameState.PLAYING:
+            ball = self.pitch.ball()
+            self._record_touch(ball)
+            if self.secondary is SecondaryState.NORMAL:
+                self._judge_play(ball, now, dt)
+            else:
+                self._judge_shootout_kick(ball, now)
+        if self.state in (GameState.READY, GameState.PLAYING):
+            self._watch_robots(now)
+        self._maybe_broadcast(now)
+        return self._flush()
+
+    # ---- states -----------------------------------------------------------------------
+
+    def _enter(self, state: GameState, now: float) -> None:
+        self.state = state
+        self._entered_s = now
+        self._event(EventKind.STATE, state=state.name, half=self.half, secondary=self.secondary.name)
+
+    def _begin_play(self, now: float) -> None:
+        if self.secondary is SecondaryState.PENALTY_SHOOTOUT:
+            self._attempt.start_s = now
+            return
+        self._kickoff_shot_open = True
+        self._ball_left_circle = False
+        self._pending_out = None
+        self._event(EventKind.KICKOFF, team=self.kickoff.value if self.kickoff else None, half=self.half)
+
+    def _judge_play(self, ball: BallState, now: float, dt: float) -> None:
+        self.seconds_remaining -= dt
+        if self.seconds_remaining <= 1e-9:
+            self.seconds_remaining = 0.0
+            self._end_half(now)
+            return
+        if math.hypot(ball.x, ball.y) > FIELD.center_circle_radius + FIELD.ball_radius:
+            self._ball_left_circle = True
+        if self._pending_out is not None:
+            if now - self._pending_out.since_s >= self.config.ball_out_wait_seconds - 1e-9:
+                self._throw_in()
+            return
+        goal = goal_crossed(ball.x, ball.y, ball.z)
+        if goal is not None:
+            self._goal(goal, ball, now)
+            return
+        out = ball_out(ball.x, ball.y, ball.z)
+        if out is not None:
+            toucher = self._side_of_robot(ball.last_toucher)
+            self._pending_out = _PendingOut(out, self.defended_goal(toucher) if toucher else None, now)
+            self._event(EventKind.BALL_OUT, line=out.kind.value, x=round(out.x, 3), y=round(out.y, 3),
+                        last_toucher=ball.last_toucher)
+
+    def _goal(self, goal: GoalColor, ball: BallState, now: float) -> None:
+        scorer = Side.HOME if self.defended_goal(Side.AWAY) is goal else Side.AWAY
+        if self._kickoff_shot_open and scorer is self.kickoff:
+            # Kick-off-shot rule: no goal before the ball left the circle and was touched
+            # again by the kick-off team (or touched by the other team). Placed as an
+            # end-line out by the attacking team.
+            self._event(EventKind.GOAL_DISALLOWED, team=scorer.value, reason="kickoff_shot", last_toucher=ball.last_toucher)
+            out = BallOut(OutKind.END_LINE, ball.x, ball.y)
+            self._pending_out = _PendingOut(out, self.defended_goal(scorer), now)
+            return
+        self.score[scorer] += 1
+        self._new_goals.append(scorer)
+        self._event(EventKind.GOAL, team=scorer.value, goal=goal.value, last_toucher=ball.last_toucher,
+                    score={"home": self.score[Side.HOME], "away": self.score[Side.AWAY]})
+        self.kickoff = scorer.other
+        self._enter(GameState.READY, now)
+        self._place_ball(0.0, 0.0)
+
+    def _throw_in(self) -> None:
+        pending = self._pending_out
+        self._pending_out = None
+        spot = throw_in_spot(pending.out, pending.toucher_defends)
+        x, y = shift_off_robots(spot, self._robot_positions())
+        self._place_ball(x, y)
+        self._event(EventKind.THROW_IN, x=round(x, 3), y=round(y, 3), line=pending.out.kind.value)
+
+    def _end_half(self, now: float) -> None:
+        if self.half == 1:
+            self._event(EventKind.HALF_TIME, score={"home": self.score[Side.HOME], "away": self.score[Side.AWAY]})
+            self.half = 2
+            self.home_color = self.home_color.other
+            self.home_defends = self.home_defends.other
+            for agent in self.agents:
+                self.pitch.set_team_color(self._ids[agent], self.color_of(agent.side))
+            self.seconds_remaining = self.config.half_seconds
+            self.kickoff = self.side_of_color(self.config.first_kickoff_color)
+            self._pending_out = None
+            self._enter(GameState.INITIAL, now)
+            self._place_for_kickoff(only_illegal=False)
+        elif self.config.shootout and self.score[Side.HOME] == self.score[Side.AWAY]:
+            self._start_shootout(now)
+        else:
+            self._finish(now)
+
+    def _finish(self, now: float) -> None:
+        self.kickoff = None
+        self._attempt = None
+        winner = self._winner()
+        self._event(EventKind.END, winner=winner.value if winner else None,
+                    score={"home": self.score[Side.HOME], "away": self.score[Side.AWAY]},
+                    shootout=None if self.shootout is None else {
+                        "home": self.shootout.goals(Side.HOME), "away": self.shootout.goals(Side.AWAY)})
+        self._enter(GameState.FINISHED, now)
+
+    def _winner(self) -> Side | None:
+        home, away = self.score[Side.HOME], self.score[Side.AWAY]
+        if home != away:
+            return Side.HOME if home > away else Side.AWAY
+        return self.shootout.winner() if self.shootout is not None else None
+
+    # ---- penalty shoot-out --------------------------------------------------------------
+
+    def _start_shootout(self, now: float) -> None:
+        cfg = self.config
+        self.secondary = SecondaryState.PENALTY_SHOOTOUT
+        self.shootout = ShootoutTally(
+            first=self.side_of_color(cfg.first_kickoff_color),
+            kicks_each=cfg.shootout_kicks,
+            sudden_death=cfg.sudden_death,
+            max_sudden_death_rounds=cfg.max_sudden_death_rounds,
+        )
+        self._next_shootout_kick(now)
+
+    def _next_shootout_kick(self, now: float) -> None:
+        side = self.shootout.next_side
+        kicker = self._shootout_kicker(side)
+        keepers = [a for a in self.agents if a.side is side.other and a.player == 0]
+        keeper = self._ids[keepers[0]] if keepers else None
+        self._attempt = _ShootoutAttempt(side=side, kicker=kicker, keeper=keeper)
+        self.kickoff = side
+        # The kicking team attacks the shoot-out goal; the keeper's team defends it.
+        self.home_defends = SHOOTOUT_GOAL.other if side is Side.HOME else SHOOTOUT_GOAL
+        self._enter(GameState.SET, now)
+        self._place_shootout()
+
+    def _shootout_kicker(self, side: Side) -> str:
+        """Field players take turns (the goalkeeper kicks only in a team of one)."""
+        players = [a for a in self.agents if a.side is side]
+        field_players = [a for a in players if a.player != 0] or players
+        turn = self.shootout.taken(side)
+        return self._ids[field_players[turn % len(field_players)]]
+
+    def _place_shootout(self) -> None:
+        sign = SHOOTOUT_GOAL.sign
+        attempt = self._attempt
+        facing_goal = 0.0 if sign > 0 else math.pi
+        mark_x = sign * FIELD.penalty_mark_x
+        self._place_ball(mark_x, 0.0)
+        waiting = 0
+        for agent in self.agents:
+            robot = self._ids[agent]
+            if robot == attempt.kicker:
+                pose = Pose2D(mark_x - sign * SHOOTOUT_KICKER_BEHIND_BALL_M, 0.0, facing_goal)
+            elif robot == attempt.keeper:
+                pose = Pose2D(sign * GOALKEEPER_LINE_X_M, 0.0, facing_goal + math.pi)
+            else:
+                pose = Pose2D(-2.5 + 0.6 * waiting, -OFF_FIELD_Y_M, math.pi / 2.0)
+                waiting += 1
+            self.pitch.place_robot(robot, pose)
+
+    def _judge_shootout_kick(self, ball: BallState, now: float) -> None:
+        attempt = self._attempt
+        if ball.last_toucher == attempt.kicker:
+            attempt.kicker_touched = True
+        goal = goal_crossed(ball.x, ball.y, ball.z)
+        reason = None
+        if goal is SHOOTOUT_GOAL:
+            reason = "goal"
+        elif goal is not None or ball_out(ball.x, ball.y, ball.z) is not None:
+            reason = "out"
+        elif now - attempt.start_s >= self.config.shootout_attempt_seconds - 1e-9:
+            reason = "time"
+        elif ball.last_toucher is not None and attempt.kicker_touched:
+            if math.hypot(ball.vx, ball.vy) < BALL_AT_REST_MPS:
+                attempt.rest_since_s = attempt.rest_since_s if attempt.rest_since_s is not None else now
+                if now - attempt.rest_since_s >= self.config.shootout_rest_seconds - 1e-9:
+                    reason = "stopped"
+            else:
+                attempt.rest_since_s = None
+        if reason is None:
+            return
+        kick = ShootoutKick(attempt.side, attempt.kicker, attempt.keeper, reason == "goal", reason)
+        self.shootout.record(kick)
+        if kick.scored:
+            self._new_goals.append(attempt.side)
+        self._event(EventKind.SHOOTOUT_KICK, team=attempt.side.value, kicker=attempt.kicker, keeper=attempt.keeper,
+                    scored=kick.scored, reason=reason,
+                    shootout={"home": self.shootout.goals(Side.HOME), "away": self.shootout.goals(Side.AWAY)})
+        if self.shootout.is_over():
+            self._finish(now)
+        else:
+            self._next_shootout_kick(now)
+
+    # ---- robots and ball ----------------------------------------------------------------
+
+    def _place_for_kickoff(self, only_illegal: bool) -> None:
+        """Robots to their kick-off positions (all, or those not legal as SET begins); ball to the centre."""
+        for agent in self.agents:
+            robot = self._ids[agent]
+            kicking = agent.side is self.kickoff
+            defended = self.defended_goal(agent.side)
+            if only_illegal:
+                truth = self.pitch.robot_truth(robot)
+                if not truth.fallen and legal_kickoff_position(truth.pose.x, truth.pose.y, defended, kicking):
+                    continue
+                self._event(EventKind.ROBOT_PLACED, robot=robot, x=round(truth.pose.x, 3), y=round(truth.pose.y, 3),
+                            fallen=truth.fallen)
+            self.pitch.place_robot(robot, kickoff_pose(agent.player, kicking, defended))
+            self._fallen_since.pop(robot, None)
+        self._place_ball(0.0, 0.0)
+
+    def _watch_robots(self, now: float) -> None:
+        """Falls are logged; robots off the carpet or down too long go back to the side line."""
+        cfg = self.config
+        in_shootout = self.secondary is SecondaryState.PENALTY_SHOOTOUT
+        for agent in self.agents:
+            robot = self._ids[agent]
+            truth = self.pitch.robot_truth(robot)
+            if truth.fallen and robot not in self._fallen_since:
+                self._fallen_since[robot] = now
+                self._event(EventKind.FALL, robot=robot, x=round(truth.pose.x, 3), y=round(truth.pose.y, 3))
+            elif not truth.fallen:
+                self._fallen_since.pop(robot, None)
+            if in_shootout:
+                continue
+            reason = None
+            if cfg.replace_off_carpet and not FIELD.is_on_carpet(truth.pose.x, truth.pose.y):
+                reason = "off_carpet"
+            elif cfg.fallen_limit_s is not None and robot in self._fallen_since:
+                if now - self._fallen_since[robot] >= cfg.fallen_limit_s - 1e-9:
+                    reason = "fallen"
+            if reason is not None:
+                ball = self.pitch.ball()
+                others = [p for r, p in self._robot_positions_by_id().items() if r != robot]
+                pose = sideline_pose(self.defended_goal(agent.side), ball.y, others)
+                self.pitch.place_robot(robot, pose)
+                self._fallen_since.pop(robot, None)
+                self._event(EventKind.ROBOT_REPLACED, robot=robot, reason=reason, x=round(pose.x, 3), y=round(pose.y, 3))
+
+    def _record_touch(self, ball: BallState) -> None:
+        robot, when = ball.last_toucher, ball.last_touch_time_s
+        if robot is None or when is None:
+            return
+        previous_robot, previous_time = self._last_touch
+        if (robot, when) == (previous_robot, previous_time):
+            return
+        self._last_touch = (robot, when)
+        if robot == previous_robot and previous_time is not None and when - previous_time <= self.config.touch_gap_seconds:
+            return
+        side = self._side_of_robot(robot)
+        self._event(EventKind.TOUCH, robot=robot, x=round(ball.x, 3), y=round(ball.y, 3))
+        if self._kickoff_shot_open and side is not None:
+            if side is not self.kickoff or self._ball_left_circle:
+                self._kickoff_shot_open = False
+
+    def _place_ball(self, x: float, y: float) -> None:
+        self.pitch.place_ball(x, y)
+
+    def _robot_positions_by_id(self) -> dict[str, tuple[float, float]]:
+        positions = {}
+        for robot in self._ids.values():
+            pose = self.pitch.robot_truth(robot).pose
+            positions[robot] = (pose.x, pose.y)
+        return positions
+
+    def _robot_positions(self) -> list[tuple[float, float]]:
+        return list(self._robot_positions_by_id().values())
+
+    def _side_of_robot(self, robot: str | None) -> Side | None:
+        for agent, rid in self._ids.items():
+            if rid == robot:
+                return agent.side
+        return None
+
+    # ---- output -----------------------------------------------------------------------
+
+    def _maybe_broadcast(self, now: float) -> None:
+        if now + 1e-9 >= self._next_broadcast_s:
+            self.broadcast = self.game_control()
+            period = self.config.game_control_period_seconds
+            while self._next_broadcast_s <= now + 1e-9:
+                self._next_broadcast_s += period
+
+    def _event(self, kind: EventKind, **details) -> None:
+        event = MatchEvent(self.pitch.time_s, kind, details)
+        self.events.append(event)
+        self._new_events.append(event)
+        log.debug("%.2f s %s %s", event.time_s, kind.value, details)
+
+    def _flush(self) -> RefereeUpdate:
+        update = RefereeUpdate(tuple(self._new_events), tuple(self._new_goals))
+        self._new_events.clear()
+        self._new_goals.clear()
+        return update
