@@ -88,7 +88,6 @@ UNKNOWN_DISTANCE_M = -1.0
 
 _CAMERA_POSITION = {CameraChoice.TOP: CameraPosition.TOP, CameraChoice.BOTTOM: CameraPosition.BOTTOM}
 _CAMERA_CHOICE = {CameraPosition.TOP: CameraChoice.TOP, CameraPosition.BOTTOM: CameraChoice.BOTTOM}
-_PERSISTENT_MOTIONS = (Motion.KICK_LEFT, Motion.KICK_RIGHT, Motion.STAND_UP_FROM_FRONT, Motion.STAND_UP_FROM_BACK)
 _STILL = (0.0, 0.0, 0.0)
 
 
@@ -329,7 +328,7 @@ class ScriptedPlayer:
 
     def _update_ball(self, obs: Observed) -> None:
         self._m.ball_age += 1
-        if obs.camera is CameraChoice.OFF or obs.fallen:
+        if obs.camera is CameraChoice.OFF or obs.fallen or (obs.motion is not None and obs.motion.is_stand_up):
             return
         percept = find_ball(obs.image, obs.head_yaw_rad, obs.head_pitch_rad, _CAMERA_POSITION[obs.camera])
         if percept is not None:
@@ -364,7 +363,9 @@ class ScriptedPlayer:
             LOG.debug("%s: fallen, %s", self.agent, motion.value)
             return Command(motion, head=(0.0, 0.0))
         if obs.state is not GameState.PLAYING:
-            return Command(Motion.STAND, head=self._scan(IDLE_SCAN_RATE_RADPS))
+            head = self._scan(IDLE_SCAN_RATE_RADPS)
+            self._m.scan.reversals = 0  # idle sweeps do not count toward a search turn
+            return Command(Motion.STAND, head=head)
         ball = self._known_ball()
         head = self._track(ball) if ball is not None else self._scan(SEARCH_SCAN_RATE_RADPS)
         if obs.motion is not None and obs.motion.is_kick:
@@ -405,8 +406,8 @@ class ScriptedPlayer:
         if not self._m.searching:
             self._m.searching = True
             self._m.search_turn_steps = 0
-            self._m.scan.restart(self._m.scan.yaw_rad if self._m.ball is None else self._m.ball.bearing_rad,
-                                 self._m.last_bearing_rad)
+            start = self._m.scan.yaw_rad if self._m.ball is None else self._m.ball.bearing_rad
+            self._m.scan.restart(start, self._m.last_bearing_rad)
         self._m.camera = CameraPosition.TOP
         return self._m.scan.advance(rate_radps), SCAN_PITCH_RAD
 
