@@ -64,7 +64,10 @@ MIN_TURN_RADPS = 0.4
 APPROACH_GAIN_PER_S = 0.6  # vx = gain * (distance - APPROACH_STOP_M)
 APPROACH_STOP_M = 0.12
 MIN_APPROACH_MPS = 0.05
-KICK_DISTANCE_M = 0.2
+ALIGN_WITHIN_M = 0.4  # nearer than this, side-step to put the ball in front of a foot
+ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
+FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
+KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.12-0.17 m ahead, 0.03-0.08 m to the side
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
 ORBIT_RADPS = 0.5
 ORBIT_DISTANCE_M = 0.15
@@ -205,9 +208,12 @@ def turn_toward(bearing_rad: float) -> tuple[float, float, float]:
 
 
 def approach(ball: BallPercept) -> tuple[float, float, float]:
-    """Walk forward to the ball, steering toward it."""
+    """Walk forward to the ball: steer toward it, then, when near, side-step it in front of a foot."""
     vx = max(APPROACH_GAIN_PER_S * (ball.distance_m - APPROACH_STOP_M), MIN_APPROACH_MPS)
-    return walk_command(vx, 0.0, TURN_GAIN_PER_S * ball.bearing_rad)
+    if ball.distance_m >= ALIGN_WITHIN_M:
+        return walk_command(vx, 0.0, TURN_GAIN_PER_S * ball.bearing_rad)
+    foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
+    return walk_command(vx, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
 
 
 def orbit(ball: BallPercept, turn_rad: float) -> tuple[float, float, float]:
