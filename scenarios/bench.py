@@ -16,7 +16,7 @@ import os
 import platform
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -144,9 +144,81 @@ def bench_physics_step(repeats: int) -> dict[str, float]:
     return summarize("physics_step", samples)
 
 
+# ---- environment step and a whole match ---------------------------------------------------
+
+ENV_WARMUP = 10
+QUICK_START = {"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}
+"""Referee pauses shortened so that the timed steps are mostly PLAYING."""
+
+
+def bench_env(repeats: int) -> dict[str, float]:
+    """``env.step`` with 8 agents, all cameras on, random valid actions; beside it, in the same
+    run and on the same world, the rendering and physics alone (``World.step`` + 8 frames)."""
+    from match import parallel_env
+    from match.game import MatchConfig
+    from match.referee import RefereeConfig
+
+    env = parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START)))
+    try:
+        env.reset(seed=0)
+        world = env.match.world
+        robots = env.match.agent_names
+
+        def random_actions() -> dict:
+            actions = {a: env.action_space(a).sample() for a in env.agents}
+            for action in actions.values():
+                action["camera"] = 1 + action["camera"] % 2  # top or bottom: every camera on
+            return actions
+
+        def render_and_physics() -> None:
+            world.step()
+            for robot in robots:
+                world.render_camera(robot)
+
+        env_ms, raw_ms = np.empty(repeats), np.empty(repeats)
+        for i in range(ENV_WARMUP + repeats):
+            actions = random_actions()
+            start = time.perf_counter()
+            env.step(actions)
+            middle = time.perf_counter()
+            render_and_physics()
+            end = time.perf_counter()
+            if i >= ENV_WARMUP:
+                env_ms[i - ENV_WARMUP], raw_ms[i - ENV_WARMUP] = (middle - start) * 1e3, (end - middle) * 1e3
+            if not env.agents:
+                env.reset(seed=i)
+    finally:
+        env.close()
+    metrics = {**summarize("env_step", env_ms), **summarize("render_physics_only", raw_ms)}
+    metrics["env_steps_per_s"] = 1e3 / metrics["env_step_ms_median"]
+    metrics["render_physics_only_steps_per_s"] = 1e3 / metrics["render_physics_only_ms_median"]
+    metrics["env_over_render_physics_ratio"] = metrics["env_step_ms_median"] / metrics["render_physics_only_ms_median"]
+    return metrics
+
+
+def bench_match(repeats: int) -> dict[str, float]:
+    """Simulated seconds per wall second of an 8-robot match with the runner's default policies
+    (``2 * repeats`` control steps from the kick-off)."""
+    from match.game import Match
+    from match.runner import run_match
+    from scenarios.match_run import default_policies, match_config
+
+    config = match_config()
+    config = replace(config, referee=replace(config.referee, **QUICK_START))
+    match = Match(config)
+    try:
+        summary = run_match(config, default_policies(match.agent_names), seed=0, progress=False,
+                            max_steps=2 * repeats, match=match)
+    finally:
+        match.close()
+    return {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
+
+
 BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
     Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
+    Benchmark("env", "env.step(): 8 agents, all cameras on, random actions; and render+physics alone", bench_env),
+    Benchmark("match", "an 8-robot match with the default policies, real-time factor", bench_match),
 )
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from scenarios.bench import DEFAULT_REPEATS, QUICK_REPEATS, format_table, run_bench
 from scenarios.world_demo import run_world_demo
+from match.errors import MatchError
 from world.errors import WorldError
 
 EXIT_OK = 0
@@ -104,7 +105,55 @@ def _add_bench(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=handler)
 
 
-SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (_add_world_demo, _add_bench)
+def positive_float(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}") from None
+    if not (value > 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {value}")
+    return value
+
+
+def _add_match(subparsers: argparse._SubParsersAction) -> None:
+    parser = _add_subparser(
+        subparsers,
+        "match",
+        help="run a full match headless with the built-in agents",
+        description="Play a match (two halves, kick-offs, goals, throw-ins, half-time, penalty shoot-out on a tie) "
+        "with the built-in policies and write summary.json, events.jsonl and match_log.npz into --out.",
+    )
+    parser.add_argument("--home", type=positive_int, default=4, metavar="N", help="home players, 1-4 (default 4)")
+    parser.add_argument("--away", type=positive_int, default=4, metavar="N", help="away players, 1-4 (default 4)")
+    parser.add_argument("--half-seconds", type=positive_float, default=600.0, metavar="S",
+                        help="playing time of each half in simulated seconds (default 600)")
+    parser.add_argument("--seed", type=int, default=0, help="match seed (default 0)")
+    parser.add_argument("--out", type=Path, default=Path("out/match"), metavar="DIR", help="output directory (default out/match)")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
+                        help="decide a tie by penalty shoot-out (default: yes)")
+
+    def handler(args: argparse.Namespace) -> int:
+        from scenarios.match_run import run_default_match
+
+        summary = run_default_match(
+            args.out, home=args.home, away=args.away, half_seconds=args.half_seconds, seed=args.seed,
+            shootout=args.shootout, progress=args.progress,
+        )
+        score = summary.score
+        result = f"home {score['home']} - {score['away']} away"
+        if summary.shootout:
+            result += f" (shoot-out {summary.shootout['home']}-{summary.shootout['away']})"
+        print(f"{result}; {summary.sim_seconds:.0f} s simulated in {summary.wall_seconds:.0f} s "
+              f"({summary.real_time_factor:.2f}x real time)")
+        print(Path(args.out) / "summary.json")
+        return EXIT_OK
+
+    parser.set_defaults(handler=handler)
+
+
+SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (_add_world_demo, _add_bench, _add_match)
 
 
 # ---- entry point -------------------------------------------------------------------------
@@ -132,7 +181,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     handler: Handler = args.handler
     try:
         return handler(args)
-    except (WorldError, ValueError) as error:
+    except (WorldError, MatchError, ValueError) as error:
         print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as error:

@@ -246,5 +246,9 @@ def test_scans_and_then_turns_when_the_ball_is_unknown() -> None:
     actions = [player.act(obs) for _ in range(150)]
     yaws = [float(a["head"][0]) for a in actions]
     assert max(yaws) > math.radians(90) and min(yaws) < -math.radians(90)
-    assert all(CameraChoice(a["camera"]) in (CameraChoice.TOP, CameraChoice.OFF) for a in actions)
-    assert any(motion_of(a) is Motion.WALK and a["walk"][2] != 0.0 for a in actions)
+    sweeping = [a for a in actions if motion_of(a) is Motion.STAND]
+    assert sweeping and all(CameraChoice(a["camera"]) in (CameraChoice.TOP, CameraChoice.OFF) for a in sweeping)
+    assert all(abs(float(a["head"][1]) - 0.3) < 1e-6 for a in sweeping)
+    first_turn = next(i for i, a in enumerate(actions) if motion_of(a) is Motion.WALK)
+    assert first_turn > 50  # only after a full sweep
+    assert actions[first_turn]["walk"][2] != 0.0 and actions[first_turn]["walk"][0] == 0.0

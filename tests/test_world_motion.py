@@ -226,3 +226,20 @@ def test_stand_up_while_standing_keeps_the_robot_up(world):
     truth = world.robot_truth("a")
     assert not truth.fallen and truth.tilt_rad < math.radians(3)
     assert math.hypot(truth.pose.x - START.x, truth.pose.y - START.y) < 0.02
+
+
+def test_walk_recommanded_every_step_keeps_its_stride(world):
+    """A controller that re-sends the walk each step (with small speed changes) walks straight
+    on, its gyro stays near zero, and each speed change reports the nominal walk so far."""
+    world.place_robot("a", Pose2D(-1.0, 0.0, 0.0))
+    yaw_rates, walked = [], 0.0
+    for i in range(100):
+        world.command_walk("a", 0.2 - 0.002 * (i % 2), 0.0, 0.0)
+        world.step()
+        yaw_rates.append(world.sensors("a").gyro_radps[2])
+        walked += world.motion_status("a").last_finished.nominal.forward_m if i else 0.0
+    pose = world.robot_pose("a")
+    assert pose.x - (-1.0) == pytest.approx(0.8, abs=0.08)
+    assert abs(pose.theta) < math.radians(3)
+    assert abs(float(np.mean(yaw_rates))) < 0.05
+    assert walked == pytest.approx(0.2 * 0.04 * 99, rel=0.05)

@@ -97,6 +97,10 @@ class _ActiveMotion:
     kick_speed: float = 1.0
     stand_up_from: tuple | None = None  # (position, orientation) at the start of a stand-up
     stand_up_works: bool = False
+    gait_start_s: float | None = None  # a walk whose speed changed keeps the gait phase of the first
+
+    def gait_time(self, now_s: float) -> float:
+        return now_s - (self.start_time_s if self.gait_start_s is None else self.gait_start_s)
 
 
 @dataclass
@@ -123,18 +127,28 @@ class LocomotionController:
     # ---- commands -------------------------------------------------------------------
 
     def start(self, motion: Motion, now_s: float, rng: np.random.Generator, walk=(0.0, 0.0, 0.0)) -> bool:
-        """Start ``motion`` (interrupting another); return False if refused (fallen)."""
+        """Start ``motion`` (interrupting another); return False if refused (fallen).
+
+        The motion already playing, commanded again, continues. A walk commanded again with
+        another velocity ends the walk so far (its nominal displacement is reported) and
+        goes on at the new velocity without breaking step: same gait phase, same reference.
+        """
         if self.fallen and not motion.is_stand_up:
             self.refused = motion
             return False
+        gait_start = None
         if self.active is not None:
-            if self.active.motion is motion and motion is not Motion.WALK:
-                return True
-            self._finish(now_s, completed=False)
+            if self.active.motion is motion:
+                if motion is not Motion.WALK or tuple(walk) == self.active.nominal_velocity:
+                    return True
+                gait_start = self.active.start_time_s if self.active.gait_start_s is None else self.active.gait_start_s
+            self._finish(now_s, completed=False, reanchor=gait_start is None)
         self.refused = None
         if motion is Motion.WALK:
             real = self.noise.walk_velocity(*walk, rng)
-            self.active = _ActiveMotion(motion, now_s, math.inf, tuple(walk), real)
+            self.active = _ActiveMotion(motion, now_s, math.inf, tuple(walk), real, gait_start_s=gait_start)
+            if gait_start is not None:
+                return True
         else:
             spec = MOTION_SPECS[motion]
             real = self.noise.real_displacement(spec.nominal, rng)
@@ -265,11 +279,10 @@ class LocomotionController:
     def _joint_targets(self, active: _ActiveMotion | None, now_s: float) -> gaits.JointTargets:
         if active is None or active.motion is Motion.STAND:
             return gaits.STANDING
-        t = now_s - active.start_time_s
         if active.motion.is_kick:
-            return gaits.kick_targets(active.motion, t)
+            return gaits.kick_targets(active.motion, now_s - active.start_time_s)
         if any(abs(v) > 1e-9 for v in active.real_velocity) or active.motion is Motion.WALK:
-            return gaits.walking_targets(t)
+            return gaits.walking_targets(active.gait_time(now_s))
         return gaits.STANDING
 
     def _drive_joints(self, targets: gaits.JointTargets, dt_s: float, kick_speed: float = 1.0) -> None:
@@ -323,7 +336,7 @@ class LocomotionController:
         if s >= 1.0:
             self.fall_side = FallSide.NONE
 
-    def _finish(self, now_s: float, completed: bool) -> None:
+    def _finish(self, now_s: float, completed: bool, reanchor: bool = True) -> None:
         active = self.active
         assert active is not None
         self.active = None
@@ -335,7 +348,8 @@ class LocomotionController:
             nominal = _integrate_body_velocity(*active.nominal_velocity, played)
         self.sequence += 1
         self.last_finished = FinishedMotion(active.motion, nominal, completed, now_s, self.sequence)
-        self._anchor()
+        if reanchor:
+            self._anchor()
 
     def _anchor(self) -> None:
         position, orientation = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)

@@ -51,6 +51,9 @@ IDLE_SCAN_RATE_RADPS = 0.5
 FULL_SWEEP_REVERSALS = 2  # one end and then the other: the whole range was looked at
 SEARCH_TURN_RADPS = 0.8
 SEARCH_TURN_STEPS = 50  # about 90 degrees at SEARCH_TURN_RADPS
+# While turning, look ahead with the bottom camera: it covers the ground 0.25-0.9 m ahead,
+# which the top camera at SCAN_PITCH_RAD (from about 0.7 m) misses.
+SEARCH_TURN_HEAD = (0.0, 0.1)
 
 # Ball memory and cameras.
 BALL_MEMORY_STEPS = 12
@@ -382,7 +385,10 @@ class ScriptedPlayer:
 
     def _field_player(self, obs: Observed, ball: BallPercept | None, head: tuple[float, float]) -> Command:
         if ball is None:
-            return Command(Motion.WALK, self._search_turn(), head) if self._search_turning() else Command(Motion.STAND, head=head)
+            if not self._search_turning():
+                return Command(Motion.STAND, head=head)
+            self._m.camera = CameraPosition.BOTTOM
+            return Command(Motion.WALK, self._search_turn(), SEARCH_TURN_HEAD)
         if self._teammate_nearer(obs.player, ball.distance_m):
             return Command(Motion.STAND, head=head)
         motion, walk = chase(ball, self._heading_error(obs))

@@ -1,0 +1,245 @@
+"""Run a whole match headless with one policy per robot, and write what happened.
+
+A policy is any object with ``act(observation) -> action dict`` (and optionally
+``reset()`` and ``pose_estimate() -> (x, y, theta) | None`` for the log). A policy that
+raises, or returns an invalid action, does not end the match: its robot stands still for
+that step and the fault is recorded.
+
+Outputs in ``out_dir``: ``summary.json``, ``events.jsonl`` (one event per line) and
+``match_log.npz`` (see :mod:`match.log`).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import platform
+import time
+import traceback
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+from typing import Any, Protocol
+
+from tqdm import tqdm
+
+from match.events import EventKind, MatchEvent
+from match.game import Match, MatchConfig
+from match.log import MatchLog
+from match.protocol.actions import parse_action
+from match.protocol.game_control import SecondaryState
+from match.protocol.ids import Side
+
+log = logging.getLogger(__name__)
+
+FAULT_DETAILS_PER_AGENT = 20  # faults beyond this are counted, not described
+PROGRESS_EVERY_STEPS = 25
+
+
+class Policy(Protocol):
+    def act(self, observation: dict) -> Any: ...
+
+
+@dataclass
+class FaultRecord:
+    counts: dict[str, int] = field(default_factory=dict)
+    details: list[dict] = field(default_factory=list)
+
+    def add(self, agent: str, time_s: float, error: BaseException) -> MatchEvent | None:
+        self.counts[agent] = self.counts.get(agent, 0) + 1
+        if self.counts[agent] > FAULT_DETAILS_PER_AGENT:
+            return None
+        where = traceback.extract_tb(error.__traceback__)[-1] if error.__traceback__ else None
+        detail = {
+            "agent": agent,
+            "time_s": round(time_s, 3),
+            "error": f"{type(error).__name__}: {error}",
+            "where": f"{where.filename}:{where.lineno}" if where else None,
+        }
+        self.details.append(detail)
+        log.warning("policy of %s failed at %.2f s: %s", agent, time_s, detail["error"])
+        return MatchEvent(time_s, EventKind.FAULT, detail)
+
+    def to_json(self) -> dict:
+        return {"total": sum(self.counts.values()), "by_agent": dict(self.counts), "details": self.details}
+
+
+@dataclass(frozen=True)
+class MatchSummary:
+    score: dict[str, int]
+    shootout: dict[str, int] | None
+    winner: str | None
+    seed: int
+    sim_seconds: float
+    wall_seconds: float
+    steps: int
+    events_count: int
+    radio: dict
+    faults: dict
+
+    @property
+    def real_time_factor(self) -> float:
+        return self.sim_seconds / self.wall_seconds if self.wall_seconds > 0 else float("inf")
+
+    def to_json(self, config: MatchConfig) -> dict:
+        return {
+            "score": self.score,
+            "shootout": self.shootout,
+            "winner": self.winner,
+            "seed": self.seed,
+            "sim_seconds": round(self.sim_seconds, 3),
+            "wall_seconds": round(self.wall_seconds, 3),
+            "real_time_factor": round(self.real_time_factor, 3),
+            "steps": self.steps,
+            "events_count": self.events_count,
+            "radio": self.radio,
+            "faults": self.faults,
+            "config": {
+                "home_players": config.home_players,
+                "away_players": config.away_players,
+                "half_seconds": config.referee.half_seconds,
+                "shootout": config.referee.shootout,
+            },
+            "versions": _versions(),
+        }
+
+
+def run_match(
+    config: MatchConfig,
+    policies: Mapping[str, Policy],
+    *,
+    seed: int = 0,
+    out_dir: Path | None = None,
+    progress: bool = True,
+    max_steps: int | None = None,
+    match: Match | None = None,
+) -> MatchSummary:
+    """Play one match to the end (or ``max_steps``) and write its outputs to ``out_dir``."""
+    match = match or Match(config)
+    missing = [a for a in match.agent_names if a not in policies]
+    if missing:
+        raise ValueError(f"no policy for agents {missing}; policies given for {sorted(policies)}")
+    for policy in policies.values():
+        if hasattr(policy, "reset"):
+            policy.reset()
+    out_dir = Path(out_dir) if out_dir is not None else None
+    if out_dir is not None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    events_file = open(out_dir / "events.jsonl", "w", encoding="utf-8") if out_dir else None
+    faults = FaultRecord()
+    match_log = MatchLog(match.agent_names)
+    started = time.perf_counter()
+    observations = match.reset(seed)
+    written = _write_events(events_file, match.events)
+    total_play_s = 2 * config.referee.half_seconds
+    bar = tqdm(total=round(total_play_s), unit="s", desc="match", disable=not progress, dynamic_ncols=True)
+    steps = 0
+    try:
+        match_log.record(match, _estimates(policies))
+        while not match.finished and (max_steps is None or steps < max_steps):
+            actions = {}
+            for agent in match.agent_names:
+                try:
+                    actions[agent] = parse_action(agent, policies[agent].act(observations[agent]))
+                except Exception as error:  # a failing policy must not end the match
+                    event = faults.add(agent, match.world.time_s, error)
+                    if event is not None:
+                        match.events.append(event)
+                        written += _write_events(events_file, [event])
+                    actions[agent] = None
+            result = match.step({a: _as_dict(action) for a, action in actions.items()})
+            steps += 1
+            written += _write_events(events_file, result.events)
+            match_log.record(match, _estimates(policies))
+            if progress and steps % PROGRESS_EVERY_STEPS == 0:
+                _update_bar(bar, match, total_play_s, time.perf_counter() - started)
+    finally:
+        if progress:
+            _update_bar(bar, match, total_play_s, time.perf_counter() - started)
+        bar.close()
+        if events_file:
+            events_file.close()
+        if out_dir is not None:
+            match_log.save(out_dir / "match_log.npz")
+    wall = time.perf_counter() - started
+    summary = _summarize(match, seed, wall, steps, faults)
+    if out_dir is not None:
+        (out_dir / "summary.json").write_text(json.dumps(summary.to_json(config), indent=2) + "\n", encoding="utf-8")
+    log.info("match finished: %s in %.1f s of simulated time (%.2fx real time)", summary.score, summary.sim_seconds,
+             summary.real_time_factor)
+    return summary
+
+
+def _as_dict(action) -> dict | None:
+    """A checked :class:`Action` back in the action-space layout (None: stand)."""
+    if action is None:
+        return None
+    result = {"motion": action.motion.value, "walk": list(action.walk), "radio": action.radio}
+    if action.head is not None:
+        result["head"] = list(action.head)
+    if action.camera is not None:
+        result["camera"] = int(action.camera)
+    return result
+
+
+def _estimates(policies: Mapping[str, Policy]) -> dict[str, tuple[float, float, float] | None]:
+    estimates = {}
+    for agent, policy in policies.items():
+        estimate = getattr(policy, "pose_estimate", None)
+        try:
+            estimates[agent] = estimate() if callable(estimate) else None
+        except Exception:  # an estimate is for the log only; a failure there is not a fault of play
+            estimates[agent] = None
+    return estimates
+
+
+def _write_events(handle, events) -> int:
+    if handle is None:
+        return len(events)
+    for event in events:
+        handle.write(json.dumps(event.to_json()) + "\n")
+    return len(events)
+
+
+def _update_bar(bar, match: Match, total_play_s: float, wall_s: float) -> None:
+    referee = match.referee
+    played = (referee.half - 1) * referee.config.half_seconds + referee.config.half_seconds - referee.seconds_remaining
+    bar.n = round(min(played, total_play_s))
+    score = f"{referee.score[Side.HOME]}-{referee.score[Side.AWAY]}"
+    if referee.secondary is SecondaryState.PENALTY_SHOOTOUT and referee.shootout is not None:
+        score += f" (pens {referee.shootout.goals(Side.HOME)}-{referee.shootout.goals(Side.AWAY)})"
+    bar.set_postfix_str(f"score {score}, sim {match.world.time_s:.0f} s, {match.world.time_s / max(wall_s, 1e-9):.2f}x")
+
+
+def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRecord) -> MatchSummary:
+    referee = match.referee
+    shootout = None
+    if referee.shootout is not None:
+        shootout = {side.value: referee.shootout.goals(side) for side in Side}
+    winner = None
+    if referee.finished:
+        end = [e for e in referee.events if e.kind is EventKind.END]
+        winner = end[-1].details.get("winner") if end else None
+    return MatchSummary(
+        score=match.score,
+        shootout=shootout,
+        winner=winner,
+        seed=seed,
+        sim_seconds=match.world.time_s,
+        wall_seconds=wall,
+        steps=steps,
+        events_count=len(match.events),
+        radio=match.radio.counts.to_json(),
+        faults=faults.to_json(),
+    )
+
+
+def _versions() -> dict:
+    versions = {"python": platform.python_version()}
+    for package in ("robotstadium", "pybullet", "numpy", "pettingzoo", "gymnasium"):
+        try:
+            versions[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            versions[package] = None
+    return versions
