@@ -76,7 +76,7 @@ class RefereeConfig:
     shootout: bool = True
     shootout_kicks: int = 5
     sudden_death: bool = True
-    max_sudden_death_rounds: int = 10
+    max_sudden_death_rounds: int = 5  # then the match ends a draw
     shootout_attempt_seconds: float = 60.0
     shootout_rest_seconds: float = 2.0  # a touched ball at rest this long ends a kick
 

@@ -131,7 +131,7 @@ def run_match(
     match_log = MatchLog(match.agent_names)
     started = time.perf_counter()
     observations = match.reset(seed)
-    written = _write_events(events_file, match.events)
+    _write_events(events_file, match.events)
     total_play_s = 2 * config.referee.half_seconds
     bar = tqdm(total=round(total_play_s), unit="s", desc="match", disable=not progress, dynamic_ncols=True)
     steps = 0
@@ -146,11 +146,12 @@ def run_match(
                     event = faults.add(agent, match.world.time_s, error)
                     if event is not None:
                         match.events.append(event)
-                        written += _write_events(events_file, [event])
+                        _write_events(events_file, [event])
                     actions[agent] = None
             result = match.step({a: _as_dict(action) for a, action in actions.items()})
+            observations = result.observations
             steps += 1
-            written += _write_events(events_file, result.events)
+            _write_events(events_file, result.events)
             match_log.record(match, _estimates(policies))
             if progress and steps % PROGRESS_EVERY_STEPS == 0:
                 _update_bar(bar, match, total_play_s, time.perf_counter() - started)
@@ -194,12 +195,11 @@ def _estimates(policies: Mapping[str, Policy]) -> dict[str, tuple[float, float, 
     return estimates
 
 
-def _write_events(handle, events) -> int:
+def _write_events(handle, events) -> None:
     if handle is None:
-        return len(events)
+        return
     for event in events:
         handle.write(json.dumps(event.to_json()) + "\n")
-    return len(events)
 
 
 def _update_bar(bar, match: Match, total_play_s: float, wall_s: float) -> None:

@@ -25,7 +25,7 @@ class ShootoutTally:
     first: Side
     kicks_each: int = 5
     sudden_death: bool = True
-    max_sudden_death_rounds: int = 10
+    max_sudden_death_rounds: int = 5
     kicks: list[ShootoutKick] = field(default_factory=list)
 
     def taken(self, side: Side) -> int:

@@ -45,6 +45,9 @@ PITCH_LIMITS_RAD = (NAO_HEAD.pitch_limits_rad[0] + _HEAD_MARGIN_RAD, NAO_HEAD.pi
 
 # Head scanning (ball unknown, or not playing).
 SCAN_PITCH_RAD = 0.3
+# Every other sweep looks near the feet with the bottom camera (ground about 0.06-0.42 m
+# ahead): a ball right in front of the robot (a kick-off, a penalty) is seen there.
+NEAR_SCAN_PITCH_RAD = 0.45
 SCAN_AMPLITUDE_RAD = math.radians(100.0)
 SEARCH_SCAN_RATE_RADPS = 1.5
 IDLE_SCAN_RATE_RADPS = 0.5
@@ -414,14 +417,19 @@ class ScriptedPlayer:
         return look_at(ball, self._m.camera)
 
     def _scan(self, rate_radps: float) -> tuple[float, float]:
-        """Sweep the head with the top camera, starting where the ball was last seen."""
+        """Sweep the head, starting where the ball was last seen: far sweeps with the top
+        camera alternate with near sweeps with the bottom camera."""
         if not self._m.searching:
             self._m.searching = True
             self._m.search_turn_steps = 0
             start = self._m.scan.yaw_rad if self._m.ball is None else self._m.ball.bearing_rad
             self._m.scan.restart(start, self._m.last_bearing_rad)
+        yaw = self._m.scan.advance(rate_radps)
+        if self._m.scan.reversals % 2 == 1:
+            self._m.camera = CameraPosition.BOTTOM
+            return yaw, NEAR_SCAN_PITCH_RAD
         self._m.camera = CameraPosition.TOP
-        return self._m.scan.advance(rate_radps), SCAN_PITCH_RAD
+        return yaw, SCAN_PITCH_RAD
 
     def _search_turning(self) -> bool:
         """After a full sweep without the ball, turn in place for SEARCH_TURN_STEPS, then sweep again."""
