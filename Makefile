@@ -17,7 +17,7 @@ test: install
 	$(PY) -m pytest
 
 match: install
-	$(VENV)/bin/robotstadium world-demo --out out/world-demo
+	$(VENV)/bin/robotstadium match --out out/match
 
 bench: install
 	$(VENV)/bin/robotstadium bench --out out/bench

@@ -1,0 +1,122 @@
+"""The match runner: a whole match headless, its outputs, and policies that fail."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from match.game import MatchConfig
+from match.protocol import Motion, make_action
+from match.referee import RefereeConfig
+from match.runner import run_match
+from scenarios import cli
+
+pytestmark = pytest.mark.render
+
+SHORT = RefereeConfig(half_seconds=2.0, initial_seconds=0.2, ready_seconds=0.4, set_seconds=0.2, shootout=False)
+FULL_MATCH_STEPS = 32_000  # two 10-minute halves with their pauses, in 40 ms steps
+
+
+class Walker:
+    def act(self, observation: dict) -> dict:
+        return make_action(Motion.FORWARD, camera=1)
+
+
+class FailsAfter:
+    """Raises from the 6th step on."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def act(self, observation: dict) -> dict:
+        self.calls += 1
+        if self.calls > 5:
+            raise RuntimeError("policy bug")
+        return make_action(Motion.FORWARD)
+
+
+class BadAction:
+    def act(self, observation: dict) -> dict:
+        return {"head": [9.0, 0.0]}
+
+
+@pytest.fixture(scope="module")
+def faulty_match(tmp_path_factory: pytest.TempPathFactory):
+    out = tmp_path_factory.mktemp("match")
+    config = MatchConfig(home_players=2, away_players=1, referee=SHORT)
+    policies = {"home_0": Walker(), "home_1": FailsAfter(), "away_0": BadAction()}
+    summary = run_match(config, policies, seed=3, out_dir=out, progress=False)
+    return summary, out
+
+
+def test_failing_policies_do_not_end_the_match(faulty_match) -> None:
+    summary, out = faulty_match
+    assert summary.winner is None and summary.sim_seconds > 4.0  # both halves were played
+    faults = summary.faults
+    assert faults["by_agent"]["home_1"] == summary.steps - 5
+    assert faults["by_agent"]["away_0"] == summary.steps
+    assert "home_0" not in faults["by_agent"]
+    first = [d for d in faults["details"] if d["agent"] == "home_1"][0]
+    assert first["error"] == "RuntimeError: policy bug"
+    assert any("'head'" in d["error"] for d in faults["details"] if d["agent"] == "away_0")
+
+
+def test_outputs_are_written(faulty_match) -> None:
+    summary, out = faulty_match
+    data = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    for key in ("score", "seed", "sim_seconds", "wall_seconds", "real_time_factor", "events_count", "radio", "faults"):
+        assert key in data, key
+    assert data["score"] == {"home": 0, "away": 0} and data["seed"] == 3
+    events = [json.loads(line) for line in (out / "events.jsonl").read_text(encoding="utf-8").splitlines()]
+    assert len(events) == data["events_count"]
+    kinds = {e["kind"] for e in events}
+    assert {"state", "kickoff", "half_time", "end", "fault"} <= kinds
+    log = np.load(out / "match_log.npz")
+    steps = summary.steps + 1
+    assert log["robots"].shape == (steps, 3, 3) and log["ball"].shape == (steps, 3)
+    assert list(log["agents"]) == ["home_0", "home_1", "away_0"]
+    assert np.all(np.diff(log["time_s"]) > 0)
+    # in the first half the walker walked; the robots whose policies failed stood still
+    first_half = log["robots"][(log["half"] == 1) & (log["state"] == 3)]
+    moved = np.linalg.norm(first_half[-1, :, :2] - first_half[0, :, :2], axis=1)
+    assert moved[0] > 0.1 and moved[1] < 0.03 and moved[2] < 0.03
+    assert np.isnan(log["estimates"]).all()
+
+
+def test_a_full_match_log_stays_under_50_mb(faulty_match) -> None:
+    summary, out = faulty_match
+    bytes_per_step_per_robot = (out / "match_log.npz").stat().st_size / (summary.steps + 1) / 3
+    assert bytes_per_step_per_robot * 8 * FULL_MATCH_STEPS < 50e6
+
+
+def test_match_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    import scenarios.match_run as match_run
+
+    original = match_run.match_config
+
+    def quick_config(*args, **kwargs):
+        config = original(*args, **kwargs)
+        return MatchConfig(config.home_players, config.away_players,
+                           referee=RefereeConfig(half_seconds=config.referee.half_seconds, initial_seconds=0.2,
+                                                 ready_seconds=0.4, set_seconds=0.2, shootout=config.referee.shootout))
+
+    monkeypatch.setattr(match_run, "match_config", quick_config)
+    argv = ["match", "--home", "2", "--away", "1", "--half-seconds", "1.5", "--seed", "4", "--out", str(tmp_path),
+            "--no-progress", "--no-shootout"]
+    assert cli.main(argv) == 0
+    data = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert data["config"] == {"home_players": 2, "away_players": 1, "half_seconds": 1.5, "shootout": False}
+    assert data["faults"]["total"] == 0 and data["real_time_factor"] > 0
+    assert "summary.json" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv", [["match", "--home", "5"], ["match", "--half-seconds", "-3"], ["match", "--away", "0"]])
+def test_match_command_refuses_bad_options(argv: list[str], tmp_path: Path) -> None:
+    try:
+        code = cli.main([*argv, "--out", str(tmp_path), "--no-progress"])
+    except SystemExit as exit_info:
+        code = exit_info.code
+    assert code == 2
