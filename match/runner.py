@@ -167,7 +167,8 @@ def run_match(
     summary = _summarize(match, seed, wall, steps, faults)
     if out_dir is not None:
         (out_dir / "summary.json").write_text(json.dumps(summary.to_json(config), indent=2) + "\n", encoding="utf-8")
-    log.info("match finished: %s in %.1f s of simulated time (%.2fx real time)", summary.score, summary.sim_seconds,
+    how = "finished" if match.finished else f"stopped after {steps} steps"
+    log.info("match %s: %s in %.1f s of simulated time (%.2fx real time)", how, summary.score, summary.sim_seconds,
              summary.real_time_factor)
     return summary
 
