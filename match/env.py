@@ -134,7 +134,8 @@ class RobotStadiumEnv(ParallelEnv):
         if self.render_mode == "rgb_array":
             return frame
         if not os.environ.get("DISPLAY") and os.name != "nt":
-            log.warning("render_mode 'human' needs a display; none found, so no window is shown")
+            log.warning("render_mode 'human' needs a display; none found, rendering as 'rgb_array' from now on")
+            self.render_mode = "rgb_array"
             return None
         try:
             cv2.imshow("robotstadium", cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
