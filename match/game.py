@@ -24,7 +24,6 @@ from match.protocol.ids import AgentId, Side, roster
 from match.protocol.spaces import CameraChoice
 from match.radio import Radio, RadioConfig
 from match.referee import Referee, RefereeConfig
-from world.camera_model import CameraPosition
 from world.config import RobotSpec, WorldConfig
 from world.errors import InvalidCommandError
 from world.motions import Motion
@@ -32,8 +31,6 @@ from world.teams import TeamColor
 from world.world import World
 
 log = logging.getLogger(__name__)
-
-_CAMERA_POSITION = {CameraChoice.TOP: CameraPosition.TOP, CameraChoice.BOTTOM: CameraPosition.BOTTOM}
 
 
 @dataclass(frozen=True)
@@ -85,8 +82,8 @@ class Match:
         self.events = []
         self._cameras = {a: self.config.initial_camera for a in self.agents}
         for agent in self.agents:
-            if self.config.initial_camera in _CAMERA_POSITION:
-                self.world.set_camera(str(agent), _CAMERA_POSITION[self.config.initial_camera])
+            if self.config.initial_camera.position is not None:
+                self.world.set_camera(str(agent), self.config.initial_camera.position)
         self.events.extend(self.referee.start().events)
         self._started = True
         return self.observe({a: [] for a in self.agents})
@@ -145,8 +142,8 @@ class Match:
             self.world.set_head(robot, *action.head)
         if action.camera is not None:
             self._cameras[agent] = action.camera
-            if action.camera in _CAMERA_POSITION:
-                self.world.set_camera(robot, _CAMERA_POSITION[action.camera])
+            if action.camera.position is not None:
+                self.world.set_camera(robot, action.camera.position)
         motion = action.motion
         if self.referee.holds(agent) and not motion.is_stand_up:
             motion = Motion.STAND
@@ -167,7 +164,6 @@ class Match:
             camera_on = self._cameras[agent] is not CameraChoice.OFF
             image = self.world.render_camera(robot) if camera_on else None
             observations[robot] = build_observation(
-                agent,
                 readings[robot],
                 image,
                 game_observation(views[agent.side], agent.player),

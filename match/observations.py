@@ -8,16 +8,13 @@ import numpy as np
 
 from match.protocol import spaces as sp
 from match.protocol.game_control import GameControlView
-from match.protocol.ids import AgentId
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES
 from match.radio import RadioMessage
-from world.camera_model import CameraPosition
 from world.field import GoalColor
 from world.sensors import SensorReading
 from world.teams import TeamColor
 
 _MOTION_INDEX = {m: i for i, m in enumerate(sp.MOTIONS)}
-_CAMERA_CHOICE = {CameraPosition.TOP: sp.CameraChoice.TOP, CameraPosition.BOTTOM: sp.CameraChoice.BOTTOM}
 
 
 def blank_image() -> np.ndarray:
@@ -59,7 +56,6 @@ def radio_observation(messages: Sequence[RadioMessage], dropped: int) -> dict:
 
 
 def build_observation(
-    agent: AgentId,
     reading: SensorReading,
     image: np.ndarray | None,
     game: dict,
@@ -79,7 +75,7 @@ def build_observation(
     return {
         "image": blank_image() if image is None else image,
         "head": np.clip(head, np.float32(sp.HEAD_LOW), np.float32(sp.HEAD_HIGH)),
-        "camera": int(sp.CameraChoice.OFF if image is None else _CAMERA_CHOICE[reading.camera]),
+        "camera": int(sp.CameraChoice.OFF if image is None else sp.CameraChoice.of(reading.camera)),
         "accelerometer": _clipped(reading.accelerometer_mps2, sp.ACCELEROMETER_LIMIT_MPS2),
         "gyro": _clipped(reading.gyro_radps, sp.GYRO_LIMIT_RADPS),
         "sonar": np.clip(np.array(reading.sonar_m, dtype=np.float32), 0.0, sp.SONAR_MAX_RANGE_M),

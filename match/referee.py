@@ -129,6 +129,7 @@ class Referee:
         self.config = config or RefereeConfig()
         self.agents = tuple(agents)
         self._ids = {a: str(a) for a in self.agents}
+        self._side_by_id = {str(a): a.side for a in self.agents}
         self.reset()
 
     # ---- public state -----------------------------------------------------------------
@@ -498,10 +499,7 @@ class Referee:
         return list(self._robot_positions_by_id().values())
 
     def _side_of_robot(self, robot: str | None) -> Side | None:
-        for agent, rid in self._ids.items():
-            if rid == robot:
-                return agent.side
-        return None
+        return self._side_by_id.get(robot)
 
     # ---- output -----------------------------------------------------------------------
 

@@ -148,7 +148,7 @@ def run_match(
                         match.events.append(event)
                         _write_events(events_file, [event])
                     actions[agent] = None
-            result = match.step({a: _as_dict(action) for a, action in actions.items()})
+            result = match.step(actions)
             observations = result.observations
             steps += 1
             _write_events(events_file, result.events)
@@ -171,18 +171,6 @@ def run_match(
     log.info("match %s: %s in %.1f s of simulated time (%.2fx real time)", how, summary.score, summary.sim_seconds,
              summary.real_time_factor)
     return summary
-
-
-def _as_dict(action) -> dict | None:
-    """A checked :class:`Action` back in the action-space layout (None: stand)."""
-    if action is None:
-        return None
-    result = {"motion": action.motion.value, "walk": list(action.walk), "radio": action.radio}
-    if action.head is not None:
-        result["head"] = list(action.head)
-    if action.camera is not None:
-        result["camera"] = int(action.camera)
-    return result
 
 
 def _estimates(policies: Mapping[str, Policy]) -> dict[str, tuple[float, float, float] | None]:

@@ -24,8 +24,9 @@ from match.protocol import (
     NO_MOTION,
     CameraChoice,
     GameState,
+    WALK_HIGH,
+    WALK_LOW,
     Motion,
-    action_space,
     make_action,
 )
 from world.camera_model import NAO_HEAD, CameraPosition
@@ -35,10 +36,7 @@ LOG = logging.getLogger(__name__)
 
 CONTROL_STEP_S = 0.04
 
-# Walk and head limits of the action space (float32 bounds, so clipping keeps actions inside it).
-_WALK_BOX = action_space()["walk"]
-WALK_LOW = tuple(float(x) for x in _WALK_BOX.low)  # vx m/s, vy m/s, omega rad/s
-WALK_HIGH = tuple(float(x) for x in _WALK_BOX.high)
+# Head limits with a margin (walk limits: WALK_LOW, WALK_HIGH of the action space).
 _HEAD_MARGIN_RAD = 1e-3
 YAW_LIMITS_RAD = (NAO_HEAD.yaw_limits_rad[0] + _HEAD_MARGIN_RAD, NAO_HEAD.yaw_limits_rad[1] - _HEAD_MARGIN_RAD)
 PITCH_LIMITS_RAD = (NAO_HEAD.pitch_limits_rad[0] + _HEAD_MARGIN_RAD, NAO_HEAD.pitch_limits_rad[1] - _HEAD_MARGIN_RAD)
@@ -95,8 +93,6 @@ REPORT = struct.Struct("<Bff")  # player, ball distance m (-1 unknown), ball bea
 TEAMMATE_MEMORY_STEPS = 12
 UNKNOWN_DISTANCE_M = -1.0
 
-_CAMERA_POSITION = {CameraChoice.TOP: CameraPosition.TOP, CameraChoice.BOTTOM: CameraPosition.BOTTOM}
-_CAMERA_CHOICE = {CameraPosition.TOP: CameraChoice.TOP, CameraPosition.BOTTOM: CameraChoice.BOTTOM}
 _STILL = (0.0, 0.0, 0.0)
 
 
@@ -342,7 +338,7 @@ class ScriptedPlayer:
         self._m.ball_age += 1
         if obs.camera is CameraChoice.OFF or obs.fallen or (obs.motion is not None and obs.motion.is_stand_up):
             return
-        percept = find_ball(obs.image, obs.head_yaw_rad, obs.head_pitch_rad, _CAMERA_POSITION[obs.camera])
+        percept = find_ball(obs.image, obs.head_yaw_rad, obs.head_pitch_rad, obs.camera.position)
         if percept is not None:
             self._m.ball, self._m.ball_age = percept, 0
             self._m.last_bearing_rad = percept.bearing_rad
@@ -449,4 +445,4 @@ class ScriptedPlayer:
         """The camera on every ``camera_every_steps``-th step, off otherwise."""
         if self._m.step % self.camera_every_steps != 0:
             return CameraChoice.OFF
-        return _CAMERA_CHOICE[self._m.camera]
+        return CameraChoice.of(self._m.camera)

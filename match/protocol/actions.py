@@ -58,9 +58,14 @@ def make_action(
 
 
 def parse_action(agent: str, raw: object) -> Action:
-    """Check every field of ``raw`` (a dict, or None for "stand"), then build the Action."""
+    """Check every field of ``raw`` (a dict, or None for "stand"), then build the Action.
+
+    An :class:`Action` (already checked) is returned as it is.
+    """
     if raw is None:
         return STAND
+    if isinstance(raw, Action):
+        return raw
     if not isinstance(raw, Mapping):
         raise InvalidActionError(agent, "action", raw, f"a dict with keys among {list(ACTION_KEYS)}, or None")
     unknown = [k for k in raw if k not in ACTION_KEYS]

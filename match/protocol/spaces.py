@@ -34,7 +34,7 @@ from gymnasium import spaces
 from match.protocol.game_control import GameState, KickOff, SecondaryState
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
-from world.camera_model import NAO_CAMERA, NAO_HEAD
+from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
 from world.motions import Motion, WalkLimits
 
 MOTIONS: tuple[Motion, ...] = tuple(Motion)
@@ -56,6 +56,15 @@ class CameraChoice(enum.IntEnum):
     OFF = 0
     TOP = 1
     BOTTOM = 2
+
+    @property
+    def position(self) -> CameraPosition | None:
+        """The camera position this choice switches to (None: off)."""
+        return None if self is CameraChoice.OFF else CameraPosition[self.name]
+
+    @classmethod
+    def of(cls, position: CameraPosition) -> CameraChoice:
+        return cls[position.name]
 
 
 def _box(low, high, shape, dtype=np.float32) -> spaces.Box:
