@@ -1,0 +1,1 @@
+"""Landmark recognition (thesis chapter 4): from one camera frame to landmark percepts."""

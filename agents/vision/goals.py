@@ -1,0 +1,274 @@
+"""Goal and goal-post recognition (thesis section 4.4).
+
+The goal-coloured pixels of each goal colour are grouped by column into posts: a column
+belongs to a post when its longest vertical run of goal pixels is long (crossbars and the
+goal's back frame are horizontal, so their runs are short), and neighbouring post columns
+make one post unless a gap separates them (thesis step 1). A post's base pixel is at its
+columns' mean and its lowest row (step 2); two posts give the goal centre (step 3); a lone
+post is told left or right by the crossbar leaving its top to one side, read in the same
+frame when the top is in view (step 4; otherwise its side stays unknown and the head scan
+tilts the head up to look, see :mod:`agents.vision.head_scan`). Then the thesis' two
+sanity checks, and ours (marked so).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from agents.vision.border import FieldBorder
+from agents.vision.camera_models import CameraModel
+from agents.vision.colors import ColorClass
+from agents.vision.frame import CameraFrame
+from agents.vision.percepts import LandmarkPercept, PostSide
+from world.camera_model import NAO_CAMERA
+from world.field import FIELD, GoalColor, LandmarkId, LandmarkKind
+
+POST_GAP_PX_THESIS = 20  # thesis 4.4 step 1: a gap of 20 px in width splits two posts
+POST_GAP_PX = 2  # ours: posts render crisp, so any gap of 2 px or more separates them; at 20 px
+# two posts seen obliquely (gap 2-19 px) would merge into one post halfway between them
+POST_HEIGHT_DIFFERENCE_PX = 40  # thesis 4.4 check 1: the shorter of two posts is rejected
+MAX_POST_DISTANCE_M = math.hypot(FIELD.length, FIELD.width)  # thesis 4.4 check 2: "longer than the field"
+MIN_POST_RUN_PX = 5  # ours: a post column has a vertical run of at least this many goal pixels ...
+POST_RUN_FRACTION = 0.3  # ... and at least this fraction of the longest run of that goal colour
+MIN_POST_WIDTH_FRACTION = 0.65  # ours: a post's core is at least this fraction of a 0.1 m post's
+# width at its distance; the goal's back frame (0.04 m bars, 0.5 m behind) is about 0.4 of it
+CORE_RUN_FRACTION = 0.5  # ours: a post's core columns have at least half its longest run
+MIN_BASE_TO_BORDER_M = 0.45  # ours: a post stands on the goal line, 0.7 m before the carpet's edge;
+# the goal's back frame stands 0.5 m behind it, 0.2 m before the edge
+CROSSBAR_MIN_PIXELS = 2  # ours: goal pixels beside the post top that show the crossbar's side
+
+GOAL_CLASSES = {GoalColor.BLUE: ColorClass.BLUE, GoalColor.YELLOW: ColorClass.YELLOW}
+
+
+@dataclass(frozen=True)
+class PostBlob:
+    """A post candidate: its columns [first, last], rows [top, bottom] and base pixel (u, v)."""
+
+    goal: GoalColor
+    first_column: int
+    last_column: int
+    top_row: int
+    bottom_row: int
+    base_u: float
+    core_width_px: int
+    rejected: str = ""  # why the post was dropped ("" when kept)
+
+    @property
+    def width_px(self) -> int:
+        return self.last_column - self.first_column + 1
+
+    @property
+    def height_px(self) -> int:
+        return self.bottom_row - self.top_row + 1
+
+    @property
+    def base_v(self) -> float:
+        """The lower edge of the lowest post pixel: where the post meets the ground."""
+        return self.bottom_row + 0.5
+
+
+@dataclass(frozen=True)
+class GoalTrace:
+    """What goal recognition saw: every post candidate, with the reason of any rejection."""
+
+    posts: tuple[PostBlob, ...] = ()
+
+
+def longest_vertical_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Length and bottom row of the longest vertical run of True in each column of ``mask``."""
+    ones = mask.astype(np.int32)
+    total = np.cumsum(ones, axis=0)
+    at_gaps = np.maximum.accumulate(np.where(ones == 0, total, 0), axis=0)
+    run = total - at_gaps  # length of the run ending at each pixel
+    return run.max(axis=0), run.argmax(axis=0)
+
+
+def find_posts(labels: np.ndarray, goal: GoalColor) -> list[PostBlob]:
+    """Post candidates of one goal colour, left to right, before any check."""
+    mask = labels == int(GOAL_CLASSES[goal])
+    if not mask.any():
+        return []
+    length, bottom = longest_vertical_runs(mask)
+    is_post = length >= max(MIN_POST_RUN_PX, POST_RUN_FRACTION * length.max())
+    columns = np.flatnonzero(is_post)
+    if columns.size == 0:
+        return []
+    breaks = np.flatnonzero(np.diff(columns) >= POST_GAP_PX)
+    posts = []
+    for group in np.split(columns, breaks + 1):
+        weights = length[group].astype(float)
+        tops = bottom[group] - length[group] + 1
+        posts.append(
+            PostBlob(
+                goal,
+                int(group[0]),
+                int(group[-1]),
+                int(tops.min()),
+                int(bottom[group].max()),
+                float(np.average(group, weights=weights)),
+                int(np.count_nonzero(length[group] >= CORE_RUN_FRACTION * length[group].max())),
+            )
+        )
+    return posts
+
+
+def crossbar_says_left(labels: np.ndarray, post: PostBlob) -> bool | None:
+    """Whether a lone post is its goal's left post, from the crossbar leaving its top.
+
+    Seen from the field, the crossbar runs from the left post to the right one: leaving the
+    post's top toward the right of the image, it makes this the left post. None when the
+    post's top is cut by the image or no crossbar pixels lie beside it.
+    """
+    if post.top_row <= 0:
+        return None
+    mask = labels == int(GOAL_CLASSES[post.goal])
+    band = slice(post.top_row, min(labels.shape[0], post.top_row + max(2, post.width_px)))
+    reach = max(3, 2 * post.width_px)
+    left = int(mask[band, max(0, post.first_column - reach) : post.first_column].sum())
+    right = int(mask[band, post.last_column + 1 : post.last_column + 1 + reach].sum())
+    if max(left, right) < CROSSBAR_MIN_PIXELS or left == right:
+        return None
+    return right > left
+
+
+def crossbar_sides(labels: np.ndarray, goal: GoalColor) -> tuple[tuple[float, bool], ...]:
+    """(column, is left post) of the posts of ``goal`` whose crossbar shows their side.
+
+    For a frame taken with the head tilted up to find the crossbar (thesis 4.4 step 4): the
+    posts' bases need not be in view.
+    """
+    found = []
+    for post in find_posts(labels, goal):
+        is_left = crossbar_says_left(labels, post)
+        if is_left is not None:
+            found.append((post.base_u, is_left))
+    return tuple(found)
+
+
+def _base_to_border_m(
+    labels: np.ndarray,
+    border: FieldBorder,
+    goal: GoalColor,
+    post: PostBlob,
+    frame: CameraFrame,
+    model: CameraModel,
+    base_distance_m: float,
+) -> float:
+    """Ground distance from a post's base to the carpet edge seen above it (inf: unknown).
+
+    The edge is interpolated from the border dots that are the carpet's edge: dots with a
+    goal-coloured pixel right above them are where the goal hides the carpet (its posts'
+    bases, its frame lying on the ground) and are not used.
+    """
+    if not border.found:
+        return math.inf
+    dots = border.rows
+    above = np.clip(dots - 1, 0, labels.shape[0] - 1)
+    keep = (dots > 0) & (labels[above, border.columns] != int(GOAL_CLASSES[goal]))
+    if not keep.any():
+        return math.inf
+    edge_row = float(np.interp(post.base_u, border.columns[keep], dots[keep]))
+    edge = model.locate(frame, post.base_u, edge_row - 0.5)  # upper edge of the first green pixel
+    edge_distance = float(edge.distance_m)
+    if not math.isfinite(edge_distance):
+        return math.inf
+    return edge_distance - (base_distance_m - FIELD.goal_post_radius)
+
+
+def _post_id(goal: GoalColor, is_left: bool) -> LandmarkId:
+    return LandmarkId[f"{goal.name}_GOAL_{'LEFT' if is_left else 'RIGHT'}_POST"]
+
+
+def _reject(post: PostBlob, reason: str) -> PostBlob:
+    return dataclasses.replace(post, rejected=reason)
+
+
+def detect_goals(
+    labels: np.ndarray, border: FieldBorder, frame: CameraFrame, model: CameraModel
+) -> tuple[tuple[LandmarkPercept, ...], GoalTrace]:
+    """Goal posts and goal centres in a segmented frame."""
+    percepts: list[LandmarkPercept] = []
+    trace: list[PostBlob] = []
+    width = labels.shape[1]
+    focal = NAO_CAMERA.focal_px
+    radius = FIELD.goal_post_radius
+    for goal in GoalColor:
+        kept: list[tuple[PostBlob, float, float]] = []
+        posts_of_goal = find_posts(labels, goal)
+        for post in posts_of_goal:
+            reason = ""
+            ground = model.locate(frame, post.base_u, post.base_v)
+            distance = float(ground.distance_m) + radius  # the base pixel is the post's front
+            if post.first_column == 0 or post.last_column == width - 1:
+                reason = "cut by the image side"  # ours: its mean column would be off
+            elif post.bottom_row >= labels.shape[0] - 1:
+                reason = "base below the image"  # ours: the base is not in view
+            elif not math.isfinite(distance) or distance > MAX_POST_DISTANCE_M:
+                reason = "farther than the field"  # thesis check 2
+            elif _base_to_border_m(labels, border, goal, post, frame, model, distance) < MIN_BASE_TO_BORDER_M:
+                reason = "base too close to the carpet edge: the goal's back frame"
+            elif post.core_width_px < MIN_POST_WIDTH_FRACTION * FIELD.goal_post_diameter / distance * focal:
+                reason = "too thin for a post at its distance"  # ours: the goal's back frame
+            if reason:
+                trace.append(_reject(post, reason))
+            else:
+                kept.append((post, float(ground.bearing_rad), distance))
+        if len(kept) > 2:
+            kept.sort(key=lambda k: -k[0].height_px)
+            for post, _, _ in kept[2:]:
+                trace.append(_reject(post, "more than two posts: shorter ones dropped"))
+            kept = sorted(kept[:2], key=lambda k: k[0].base_u)
+        if len(kept) == 2 and abs(kept[0][0].height_px - kept[1][0].height_px) > POST_HEIGHT_DIFFERENCE_PX:
+            shorter = 0 if kept[0][0].height_px < kept[1][0].height_px else 1
+            trace.append(_reject(kept[shorter][0], "much shorter than the other post"))  # thesis check 1
+            kept.pop(shorter)
+        for post, _, _ in kept:
+            trace.append(post)
+        percepts += _goal_percepts(labels, goal, kept, model.name)
+    return tuple(percepts), GoalTrace(tuple(trace))
+
+
+def _goal_percepts(
+    labels: np.ndarray, goal: GoalColor, kept: list[tuple[PostBlob, float, float]], model_name: str
+) -> list[LandmarkPercept]:
+    def post_percept(post: PostBlob, bearing: float, distance: float, side: PostSide, is_left: bool | None):
+        return LandmarkPercept(
+            LandmarkKind.GOAL_POST,
+            (post.base_u, post.base_v),
+            bearing,
+            distance,
+            model_name,
+            landmark_id=None if is_left is None else _post_id(goal, is_left),
+            goal=goal,
+            post_side=side,
+        )
+
+    if len(kept) == 1:
+        post, bearing, distance = kept[0]
+        is_left = crossbar_says_left(labels, post)
+        side = PostSide.UNKNOWN if is_left is None else PostSide.CROSSBAR
+        return [post_percept(post, bearing, distance, side, is_left)]
+    if len(kept) != 2:
+        return []
+    (left, lb, ld), (right, rb, rd) = kept
+    found = [post_percept(left, lb, ld, PostSide.PAIR, True), post_percept(right, rb, rd, PostSide.PAIR, False)]
+    # Thesis step 3 averages the two base pixels; we average the two ground points, which is
+    # where the goal centre is (a pixel average is pulled toward the nearer post by perspective).
+    cx = (ld * math.cos(lb) + rd * math.cos(rb)) / 2.0
+    cy = (ld * math.sin(lb) + rd * math.sin(rb)) / 2.0
+    found.append(
+        LandmarkPercept(
+            LandmarkKind.GOAL_CENTER,
+            ((left.base_u + right.base_u) / 2.0, (left.base_v + right.base_v) / 2.0),
+            math.atan2(cy, cx),
+            math.hypot(cx, cy),
+            model_name,
+            landmark_id=LandmarkId[f"{goal.name}_GOAL_CENTER"],
+            goal=goal,
+        )
+    )
+    return found
