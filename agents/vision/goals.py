@@ -2,13 +2,16 @@
 
 The goal-coloured pixels of each goal colour are grouped by column into posts: a column
 belongs to a post when its longest vertical run of goal pixels is long (crossbars and the
-goal's back frame are horizontal, so their runs are short), and neighbouring post columns
-make one post unless a gap separates them (thesis step 1). A post's base pixel is at its
-columns' mean and its lowest row (step 2); two posts give the goal centre (step 3); a lone
+goal's ground frame are horizontal, so their runs are short), and neighbouring post columns
+make one post unless a gap separates them (thesis step 1). A post's base pixel is at the
+mean column of its lowest rows and at its lowest row (step 2); two posts give the goal
+centre (step 3); a lone
 post is told left or right by the crossbar leaving its top to one side, read in the same
 frame when the top is in view (step 4; otherwise its side stays unknown and the head scan
 tilts the head up to look, see :mod:`agents.vision.head_scan`). Then the thesis' two
-sanity checks, and ours (marked so).
+sanity checks, and ours (marked so): a post's base must be in the image, its width must
+fit its distance, and two posts must stand 1.5 m apart; the last two reject the goal's
+thin back uprights, which stand 0.5 m behind the posts.
 """
 
 from __future__ import annotations
@@ -19,7 +22,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from agents.vision.border import FieldBorder
 from agents.vision.camera_models import CameraModel
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
@@ -37,16 +39,21 @@ POST_RUN_FRACTION = 0.3  # ... and at least this fraction of the longest run of 
 MIN_POST_WIDTH_FRACTION = 0.65  # ours: a post's core is at least this fraction of a 0.1 m post's
 # width at its distance; the goal's back frame (0.04 m bars, 0.5 m behind) is about 0.4 of it
 CORE_RUN_FRACTION = 0.5  # ours: a post's core columns have at least half its longest run
-MIN_BASE_TO_BORDER_M = 0.45  # ours: a post stands on the goal line, 0.7 m before the carpet's edge;
-# the goal's back frame stands 0.5 m behind it, 0.2 m before the edge
-CROSSBAR_MIN_PIXELS = 2  # ours: goal pixels beside the post top that show the crossbar's side
+CROSSBAR_MIN_PIXELS = 2
+BASE_ROWS = 3  # ours: the base column is the mean of the post's lowest rows (posts lean in the image)
+GOAL_WIDTH_M = 2 * FIELD.goal_post_y  # 1.5 m between the post centres
+GOAL_WIDTH_TOLERANCE_M = 0.4  # ours: two posts farther from 1.5 m apart are not one goal's pair  # ours: goal pixels beside the post top that show the crossbar's side
 
 GOAL_CLASSES = {GoalColor.BLUE: ColorClass.BLUE, GoalColor.YELLOW: ColorClass.YELLOW}
 
 
 @dataclass(frozen=True)
 class PostBlob:
-    """A post candidate: its columns [first, last], rows [top, bottom] and base pixel (u, v)."""
+    """A post candidate: its columns [first, last], rows [top, bottom] and base pixel (u, v).
+
+    ``core_width_px`` counts its columns whose goal run is at least half its longest one;
+    ``base_first_column``..``base_last_column`` is the extent of its lowest rows.
+    """
 
     goal: GoalColor
     first_column: int
@@ -55,6 +62,8 @@ class PostBlob:
     bottom_row: int
     base_u: float
     core_width_px: int
+    base_first_column: int
+    base_last_column: int
     rejected: str = ""  # why the post was dropped ("" when kept)
 
     @property
@@ -100,17 +109,22 @@ def find_posts(labels: np.ndarray, goal: GoalColor) -> list[PostBlob]:
     breaks = np.flatnonzero(np.diff(columns) >= POST_GAP_PX)
     posts = []
     for group in np.split(columns, breaks + 1):
-        weights = length[group].astype(float)
         tops = bottom[group] - length[group] + 1
+        lowest = int(bottom[group].max())
+        # The base column: the mean column of the post's pixels in its lowest rows.
+        base = mask[max(0, lowest - BASE_ROWS + 1) : lowest + 1, group[0] : group[-1] + 1]
+        base_columns = np.nonzero(base)[1] + group[0]
         posts.append(
             PostBlob(
                 goal,
                 int(group[0]),
                 int(group[-1]),
                 int(tops.min()),
-                int(bottom[group].max()),
-                float(np.average(group, weights=weights)),
+                lowest,
+                float(base_columns.mean()),
                 int(np.count_nonzero(length[group] >= CORE_RUN_FRACTION * length[group].max())),
+                int(base_columns.min()),
+                int(base_columns.max()),
             )
         )
     return posts
@@ -149,34 +163,10 @@ def crossbar_sides(labels: np.ndarray, goal: GoalColor) -> tuple[tuple[float, bo
     return tuple(found)
 
 
-def _base_to_border_m(
-    labels: np.ndarray,
-    border: FieldBorder,
-    goal: GoalColor,
-    post: PostBlob,
-    frame: CameraFrame,
-    model: CameraModel,
-    base_distance_m: float,
-) -> float:
-    """Ground distance from a post's base to the carpet edge seen above it (inf: unknown).
-
-    The edge is interpolated from the border dots that are the carpet's edge: dots with a
-    goal-coloured pixel right above them are where the goal hides the carpet (its posts'
-    bases, its frame lying on the ground) and are not used.
-    """
-    if not border.found:
-        return math.inf
-    dots = border.rows
-    above = np.clip(dots - 1, 0, labels.shape[0] - 1)
-    keep = (dots > 0) & (labels[above, border.columns] != int(GOAL_CLASSES[goal]))
-    if not keep.any():
-        return math.inf
-    edge_row = float(np.interp(post.base_u, border.columns[keep], dots[keep]))
-    edge = model.locate(frame, post.base_u, edge_row - 0.5)  # upper edge of the first green pixel
-    edge_distance = float(edge.distance_m)
-    if not math.isfinite(edge_distance):
-        return math.inf
-    return edge_distance - (base_distance_m - FIELD.goal_post_radius)
+def _ground_gap_m(a: tuple[PostBlob, float, float], b: tuple[PostBlob, float, float]) -> float:
+    """Ground distance between two posts given as (blob, bearing rad, distance m)."""
+    (_, ba, da), (_, bb, db) = a, b
+    return math.hypot(da * math.cos(ba) - db * math.cos(bb), da * math.sin(ba) - db * math.sin(bb))
 
 
 def _post_id(goal: GoalColor, is_left: bool) -> LandmarkId:
@@ -188,7 +178,7 @@ def _reject(post: PostBlob, reason: str) -> PostBlob:
 
 
 def detect_goals(
-    labels: np.ndarray, border: FieldBorder, frame: CameraFrame, model: CameraModel
+    labels: np.ndarray, frame: CameraFrame, model: CameraModel
 ) -> tuple[tuple[LandmarkPercept, ...], GoalTrace]:
     """Goal posts and goal centres in a segmented frame."""
     percepts: list[LandmarkPercept] = []
@@ -203,14 +193,12 @@ def detect_goals(
             reason = ""
             ground = model.locate(frame, post.base_u, post.base_v)
             distance = float(ground.distance_m) + radius  # the base pixel is the post's front
-            if post.first_column == 0 or post.last_column == width - 1:
-                reason = "cut by the image side"  # ours: its mean column would be off
+            if post.base_first_column == 0 or post.base_last_column == width - 1:
+                reason = "base cut by the image side"  # ours: its mean column would be off
             elif post.bottom_row >= labels.shape[0] - 1:
                 reason = "base below the image"  # ours: the base is not in view
             elif not math.isfinite(distance) or distance > MAX_POST_DISTANCE_M:
                 reason = "farther than the field"  # thesis check 2
-            elif _base_to_border_m(labels, border, goal, post, frame, model, distance) < MIN_BASE_TO_BORDER_M:
-                reason = "base too close to the carpet edge: the goal's back frame"
             elif post.core_width_px < MIN_POST_WIDTH_FRACTION * FIELD.goal_post_diameter / distance * focal:
                 reason = "too thin for a post at its distance"  # ours: the goal's back frame
             if reason:
@@ -226,6 +214,10 @@ def detect_goals(
             shorter = 0 if kept[0][0].height_px < kept[1][0].height_px else 1
             trace.append(_reject(kept[shorter][0], "much shorter than the other post"))  # thesis check 1
             kept.pop(shorter)
+        if len(kept) == 2 and abs(_ground_gap_m(kept[0], kept[1]) - GOAL_WIDTH_M) > GOAL_WIDTH_TOLERANCE_M:
+            farther = 0 if kept[0][2] > kept[1][2] else 1  # the goal's back frame stands behind a post
+            trace.append(_reject(kept[farther][0], "not 1.5 m from the other post"))  # ours
+            kept.pop(farther)
         for post, _, _ in kept:
             trace.append(post)
         percepts += _goal_percepts(labels, goal, kept, model.name)

@@ -50,6 +50,6 @@ class VisionPipeline:
         if not border.found:
             LOG.debug("no field border: recognition stops early")
             return FrameResult((), segmented, border)
-        goal_percepts, goals = detect_goals(segmented, border, frame, self.model)
+        goal_percepts, goals = detect_goals(segmented, frame, self.model)
         line_percepts, lines = detect_line_landmarks(segmented, border, frame, self.model)
         return FrameResult(goal_percepts + line_percepts, segmented, border, goals, lines)
