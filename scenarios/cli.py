@@ -153,7 +153,100 @@ def _add_match(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=handler)
 
 
-SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (_add_world_demo, _add_bench, _add_match)
+def _add_calibrate_colors(subparsers: argparse._SubParsersAction) -> None:
+    import agents.vision
+    from scenarios.color_calibration import DEFAULT_FRAMES
+
+    default_out = Path(agents.vision.__file__).parent / "data" / "color_thresholds.json"
+    parser = _add_subparser(
+        subparsers,
+        "calibrate-colors",
+        help="fit the colour-segmentation thresholds on rendered frames",
+        description="Render robot camera frames at seeded random poses, fit one RGB range per colour class "
+        "from the pixels' true classes, print the per-class accuracy and write the thresholds to --out "
+        "with a <name>_report.json beside them.",
+    )
+    parser.add_argument("--frames", type=positive_int, default=DEFAULT_FRAMES, metavar="N",
+                        help=f"calibration frames (default {DEFAULT_FRAMES}); a third as many more are held out")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
+    parser.add_argument("--out", type=Path, default=default_out, metavar="PATH",
+                        help="threshold file to write (default: the one shipped in agents/vision/data)")
+
+    def handler(args: argparse.Namespace) -> int:
+        from scenarios.color_calibration import calibrate_colors, format_scores, write_calibration
+
+        result = calibrate_colors(args.frames, args.seed)
+        print(format_scores(result))
+        print(f"{result.frames} + {result.holdout_frames} held-out frames in {result.seconds:.1f} s")
+        for path in write_calibration(result, args.out):
+            print(path)
+        return EXIT_OK
+
+    parser.set_defaults(handler=handler)
+
+
+def _add_perception(subparsers: argparse._SubParsersAction) -> None:
+    from scenarios.perception_run import MAX_CROWD
+
+    parser = _add_subparser(
+        subparsers,
+        "perception",
+        help="score the vision pipeline's landmark percepts against ground truth",
+        description="Place a robot at seeded random poses in the thesis' scan posture, render its camera "
+        "(empty field, or with --crowd other robots around), run the vision pipeline with each camera model "
+        "and score every percept against the true landmarks; write summary.json, table.md, detections.csv, "
+        "visible.csv, errors_vs_distance.png, examples/ (frames with errors, truth marked) and overlays/ "
+        "(the same frames as the pipeline saw them) into --out.",
+    )
+
+    def crowd_count(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer 0-{MAX_CROWD}, got {text!r}") from None
+        if not 0 <= value <= MAX_CROWD:
+            raise argparse.ArgumentTypeError(f"expected an integer 0-{MAX_CROWD}, got {value}")
+        return value
+
+    def model_list(text: str) -> tuple[str, ...]:
+        from agents.vision.camera_models import CAMERA_MODELS
+
+        names = tuple(name.strip() for name in text.split(",") if name.strip())
+        if not names or any(n not in CAMERA_MODELS for n in names) or len(set(names)) != len(names):
+            raise argparse.ArgumentTypeError(f"expected distinct names among {sorted(CAMERA_MODELS)}, got {text!r}")
+        return names
+
+    parser.add_argument("--frames", type=positive_int, required=True, metavar="N", help="frames to render")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="output directory (created)")
+    parser.add_argument("--crowd", type=crowd_count, default=0, metavar="K",
+                        help=f"other robots standing on the field, 0-{MAX_CROWD} (default 0)")
+    parser.add_argument("--models", type=model_list, default=("exact", "thesis"), metavar="M1,M2",
+                        help="camera models to score, comma-separated (default exact,thesis)")
+    parser.add_argument("--max-range-m", type=positive_float, default=4.0, metavar="M",
+                        help="landmarks farther than this are not expected and their errors not counted (default 4)")
+    parser.add_argument("--examples", type=int, default=6, metavar="N",
+                        help="annotated PNGs of frames with a false positive or a miss (default 6)")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+
+    def handler(args: argparse.Namespace) -> int:
+        from scenarios.perception_run import PerceptionConfig, run_perception
+
+        command = (f"robotstadium perception --frames {args.frames} --seed {args.seed} --out {args.out} "
+                   f"--crowd {args.crowd} --models {','.join(args.models)} --max-range-m {args.max_range_m:g}")
+        config = PerceptionConfig(args.frames, args.seed, args.crowd, args.models, args.max_range_m,
+                                  args.progress, args.examples, command)
+        summary = run_perception(args.out, config)
+        print((Path(args.out) / "table.md").read_text())
+        print(f"{summary['frames']} frames in {summary['wall_seconds']:.1f} s; "
+              f"pipeline median {summary['ms_per_frame_median']:.2f} ms per frame")
+        print(Path(args.out) / "summary.json")
+        return EXIT_OK
+
+    parser.set_defaults(handler=handler)
+
+
+SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (_add_world_demo, _add_bench, _add_match, _add_calibrate_colors, _add_perception)
 
 
 # ---- entry point -------------------------------------------------------------------------

@@ -129,7 +129,7 @@ OVERVIEW_SHOTS: tuple[OverviewShot, ...] = (
         (0.0, -0.2, 0.0),
         62.0,
         "broadcast view of the whole field from the right side line: blue goal on the left, yellow goal "
-        "on the right, the eight robots in formation (blue waistbands left, red right), ball on the centre spot",
+        "on the right, the eight robots in formation (blue team with cyan waistbands left, red team with magenta waistbands right), ball on the centre spot",
     ),
     OverviewShot(
         "top_view",

@@ -7,7 +7,8 @@ ball's centre lies.
 
 The ball renders about RGB (255, 140, 0) scaled by the lighting (0.65 ambient + 0.35
 diffuse), so its green/red ratio stays near 0.55 and its blue near 0, unlike the yellow
-goal (ratio ~0.9), red waistbands (~0.1), the green carpet, white lines and grey robots.
+goal (ratio ~0.9), the magenta waistbands (blue/red ~0.7), the cyan waistbands (red ~0),
+the green carpet, white lines and grey robots.
 """
 
 from __future__ import annotations
