@@ -2,7 +2,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install test match bench clean distclean
+.PHONY: install test match bench perception clean distclean
 
 install: $(STAMP)
 
@@ -21,6 +21,9 @@ match: install
 
 bench: install
 	$(VENV)/bin/robotstadium bench --out out/bench
+
+perception: install
+	$(VENV)/bin/robotstadium perception --frames 1000 --seed 0 --out out/perception
 
 clean:
 	rm -rf out build .pytest_cache .hypothesis .import_linter_cache *.egg-info

@@ -15,6 +15,7 @@ import cv2
 import numpy as np
 
 from agents.vision.colors import DISPLAY_RGB
+from agents.vision.lines import LineTrace
 from agents.vision.percepts import LandmarkPercept
 from agents.vision.pipeline import FrameResult
 from world.field import LandmarkKind
@@ -50,6 +51,22 @@ def _point(scale: int, u: float, v: float, offset: int = 0) -> tuple[int, int]:
     return int(round((u + 0.5) * scale)) + offset, int(round((v + 0.5) * scale))
 
 
+def _draw_lines(canvas: np.ndarray, trace: LineTrace, scale: int, off: int) -> None:
+    for run in trace.black_lines:
+        top, bottom = _point(scale, run.u, run.top, off), _point(scale, run.u, run.bottom, off)
+        cv2.line(canvas, top, bottom, CRITERION_RGB[run.rejected], max(1, scale // 2))
+    for line in trace.lines:
+        points = [_point(scale, u, v, off) for u, v in zip(line.w, line.h)]
+        cv2.polylines(canvas, [np.array(points, np.int32)], False, LINE_RGB, 1)
+        w = np.linspace(line.w.min(), line.w.max(), 24)
+        curve = [_point(scale, u, line.h_at(u), off) for u in w]
+        cv2.polylines(canvas, [np.array(curve, np.int32)], False, CURVE_RGB, 1)
+        u0, v0 = points[0]
+        cv2.putText(canvas, line.line_type, (u0, v0 - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.3, CURVE_RGB, 1)
+    for name, (u, v) in trace.marks:
+        cv2.drawMarker(canvas, _point(scale, u, v, off), LABEL_RGB, cv2.MARKER_CROSS, 3 * scale, 2)
+
+
 def draw_overlay(result: FrameResult, image: np.ndarray, scale: int = 4) -> np.ndarray:
     """The debug picture of ``result`` (from ``image``), RGB uint8 of (H*scale, 2*W*scale, 3)."""
     h, w = result.segmented.shape
@@ -57,8 +74,8 @@ def draw_overlay(result: FrameResult, image: np.ndarray, scale: int = 4) -> np.n
     right = cv2.resize(segmented_rgb(result.segmented), (w * scale, h * scale), interpolation=cv2.INTER_NEAREST)
     canvas = np.ascontiguousarray(np.hstack([left, right]))
     off = w * scale
-    if result.lines is not None and hasattr(result.lines, "draw"):
-        result.lines.draw(canvas, scale, off)
+    if result.lines is not None:
+        _draw_lines(canvas, result.lines, scale, off)
     kept = result.border.rows >= 0
     columns, rows = result.border.columns[kept], result.border.rows[kept]
     for (u0, v0), (u1, v1) in zip(zip(columns[:-1], rows[:-1]), zip(columns[1:], rows[1:])):
