@@ -161,7 +161,8 @@ def test_exact_model_matches_rendered_geometry_within_one_pixel(world):
         frame = dataclasses.replace(frame, accelerometer_mps2=(9.81 * m[6], 9.81 * m[7], 9.81 * m[8]))
         truth = world.robot_pose("a")
         rotation, position = world.camera_pose("a")
-        points = np.array([[truth.x + 1.5 * math.cos(truth.theta + yaw + dy), truth.y + 1.5 * math.sin(truth.theta + yaw + dy), 0.0] for dy in (-0.2, 0.0, 0.2)])
+        angles = [truth.theta + yaw + dy for dy in (-0.2, 0.0, 0.2)]
+        points = np.array([[truth.x + 1.5 * math.cos(a), truth.y + 1.5 * math.sin(a), 0.0] for a in angles])
         rendered = NAO_CAMERA.project(world_to_camera(points, rotation, position))
         c, s = math.cos(truth.theta), math.sin(truth.theta)
         local = points[:, :2] - [truth.x, truth.y]

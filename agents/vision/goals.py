@@ -39,10 +39,10 @@ POST_RUN_FRACTION = 0.3  # ... and at least this fraction of the longest run of 
 MIN_POST_WIDTH_FRACTION = 0.65  # ours: a post's core is at least this fraction of a 0.1 m post's
 # width at its distance; the goal's back frame (0.04 m bars, 0.5 m behind) is about 0.4 of it
 CORE_RUN_FRACTION = 0.5  # ours: a post's core columns have at least half its longest run
-CROSSBAR_MIN_PIXELS = 2
+CROSSBAR_MIN_PIXELS = 2  # ours: goal pixels beside the post top that show the crossbar's side
 BASE_ROWS = 3  # ours: the base column is the mean of the post's lowest rows (posts lean in the image)
 GOAL_WIDTH_M = 2 * FIELD.goal_post_y  # 1.5 m between the post centres
-GOAL_WIDTH_TOLERANCE_M = 0.4  # ours: two posts farther from 1.5 m apart are not one goal's pair  # ours: goal pixels beside the post top that show the crossbar's side
+GOAL_WIDTH_TOLERANCE_M = 0.4  # ours: two posts farther from 1.5 m apart are not one goal's pair
 
 GOAL_CLASSES = {GoalColor.BLUE: ColorClass.BLUE, GoalColor.YELLOW: ColorClass.YELLOW}
 
