@@ -52,18 +52,22 @@ def _point(scale: int, u: float, v: float, offset: int = 0) -> tuple[int, int]:
 
 
 def _draw_lines(canvas: np.ndarray, trace: LineTrace, scale: int, off: int) -> None:
-    for run in trace.black_lines:
-        top, bottom = _point(scale, run.u, run.top, off), _point(scale, run.u, run.bottom, off)
-        cv2.line(canvas, top, bottom, CRITERION_RGB[run.rejected], max(1, scale // 2))
+    black = trace.black_lines
+    for u, top, bottom, criterion in zip(black.column, black.top, black.bottom, black.rejected_by):
+        color = CRITERION_RGB[int(criterion)]
+        cv2.line(canvas, _point(scale, u, top, off), _point(scale, u, bottom, off), color, max(1, scale // 2))
     for line in trace.lines:
-        points = [_point(scale, u, v, off) for u, v in zip(line.w, line.h)]
+        points = [_point(scale, u, v, off) for u, v in zip(line.u, line.v)]
         cv2.polylines(canvas, [np.array(points, np.int32)], False, LINE_RGB, 1)
-        w = np.linspace(line.w.min(), line.w.max(), 24)
-        curve = [_point(scale, u, line.h_at(u), off) for u in w]
+        a, b, c = line.coefficients
+        u = np.linspace(line.u.min(), line.u.max(), 24)
+        curve = [_point(scale, x, a * x * x + b * x + c, off) for x in u]
         cv2.polylines(canvas, [np.array(curve, np.int32)], False, CURVE_RGB, 1)
-        u0, v0 = points[0]
-        cv2.putText(canvas, line.line_type, (u0, v0 - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.3, CURVE_RGB, 1)
-    for name, (u, v) in trace.marks:
+        cv2.putText(canvas, line.kind.value, (points[0][0], points[0][1] - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.3, CURVE_RGB, 1)
+    marks = [c.pixel for c in trace.corners] + list(trace.junctions)
+    if trace.circle is not None and trace.circle.accepted:
+        marks += list(trace.circle.pixels)
+    for u, v in marks:
         cv2.drawMarker(canvas, _point(scale, u, v, off), LABEL_RGB, cv2.MARKER_CROSS, 3 * scale, 2)
 
 

@@ -1,0 +1,92 @@
+"""The field-line stage (thesis section 4.5) built from the modules scan_lines, formation,
+split_merge, classification and landmarks.
+
+:func:`detect_line_landmarks` runs the stage on one segmented frame: black lines below the
+field border (4.5.1), lines formed from them (4.5.2), split and merged (4.5.3), classified
+by a least-squares parabola (4.5.4), and the L corners, T junctions and centre circle that
+they show, located with a camera model (4.2).
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from agents.vision.border import FieldBorder
+from agents.vision.camera_models import CameraModel
+from agents.vision.frame import CameraFrame
+from agents.vision.lines.classification import ClassifiedLine, classify_line
+from agents.vision.lines.formation import form_lines
+from agents.vision.lines.landmarks import detect_corners_and_junctions, locate_circle
+from agents.vision.lines.scan_lines import DIST, BlackLines, scan_black_lines
+from agents.vision.lines.split_merge import merge_lines, split_line
+from agents.vision.lines.trace import LineTrace
+from agents.vision.percepts import LandmarkPercept
+from world.field import LandmarkId, LandmarkKind
+
+LOG = logging.getLogger(__name__)
+
+
+def find_lines(labels: np.ndarray, border: FieldBorder, dist: int = DIST) -> tuple[BlackLines, tuple[ClassifiedLine, ...]]:
+    """Black lines and the classified lines of a segmented image (H, W) below ``border``."""
+    black = scan_black_lines(labels, border, dist)
+    kept = black.kept
+    column = black.column[kept]
+    middle = black.middle[kept]
+    formed = form_lines(column, middle, black.length[kept], dist)
+    w, h = column.tolist(), middle.tolist()
+    pieces = [piece for line in formed for piece in split_line(line, h)]
+    merged = merge_lines(pieces, w, h)
+    lines = tuple(classify_line(column[idx], middle[idx], sequence) for idx, sequence in merged)
+    return black, lines
+
+
+def detect_line_landmarks(
+    labels: np.ndarray, border: FieldBorder, frame: CameraFrame, model: CameraModel
+) -> tuple[tuple[LandmarkPercept, ...], LineTrace]:
+    """L corners, T junctions and the centre circle seen in a segmented frame, and the trace.
+
+    ``labels``: (H, W) uint8 colour classes of ``frame``'s image; ``model`` locates pixels.
+    Landmarks whose pixel is above the horizon are dropped. For the centre circle the
+    bearing and distance are those of the fitted centre; its ``pixel`` is the middle point
+    of the arc that was seen.
+    """
+    if not border.found:
+        return (), LineTrace.empty()
+    black, lines = find_lines(labels, border)
+    corners, junctions = detect_corners_and_junctions(lines)
+    percepts: list[LandmarkPercept] = []
+    pixels = [c.pixel for c in corners] + list(junctions)
+    if pixels:
+        u, v = np.array(pixels, float).T
+        ground = model.locate(frame, u, v)
+        kinds = [LandmarkKind.L_CORNER] * len(corners) + [LandmarkKind.T_JUNCTION] * len(junctions)
+        shapes = [c.shape for c in corners] + [None] * len(junctions)
+        for k, (kind, shape) in enumerate(zip(kinds, shapes)):
+            if np.isfinite(ground.distance_m[k]):
+                percepts.append(
+                    LandmarkPercept(
+                        kind, pixels[k], float(ground.bearing_rad[k]), float(ground.distance_m[k]), model.name, corner=shape
+                    )
+                )
+    circle = None
+    curves = sorted((line for line in lines if line.kind.is_curve), key=lambda line: -len(line.u))
+    for line in curves:
+        circle = locate_circle(line, frame, model)
+        if circle is not None and circle.accepted:
+            cx, cy = circle.center_m
+            percepts.append(
+                LandmarkPercept(
+                    LandmarkKind.CENTER_CIRCLE,
+                    circle.pixels[1],
+                    float(np.arctan2(cy, cx)),
+                    float(np.hypot(cx, cy)),
+                    model.name,
+                    landmark_id=LandmarkId.CENTER_CIRCLE,
+                )
+            )
+            break
+        if circle is not None:
+            LOG.debug("half-circle rejected: radius %.2f m", circle.radius_m)
+    return tuple(percepts), LineTrace(black, lines, corners, junctions, circle)
