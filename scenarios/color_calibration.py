@@ -11,8 +11,8 @@ True classes of a frame's pixels:
   team) or magenta (red team), its other links ``robot``, the walls, roof and banners
   ``other``;
 - the ground, which :mod:`world.ground` draws analytically and the mask does not show:
-  each pixel's ray is intersected with z = 0 exactly as :meth:`GroundRenderer.composite`
-  does, and the hit is looked up in the carpet texture (line texels white, carpet texels
+  :meth:`GroundRenderer.hits` (the renderer's own ground geometry) gives each ground
+  pixel's field point, which is looked up in the carpet texture (line texels white, carpet texels
   green, off the carpet ``other``).
 
 Fit (:func:`fit_thresholds`): per class and channel, the 0.5th to 99.5th percentile of the
@@ -35,7 +35,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import pybullet as pb
 
 from agents.vision.colors import PRIORITY, UNFITTED, ColorClass
 from agents.vision.segmentation import LEVEL_SHIFT, ColorBox, ColorTable, ColorThresholds
@@ -43,7 +42,7 @@ from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RobotSpec
 from world.field import GoalColor, Pose2D
-from world.ground import BACKGROUND_DEPTH
+from world.ground import GroundRenderer
 from world.robot_model import Joint, TeamColor
 from world.textures import LINE_RGB, TEXEL_M, carpet_texture
 from world.world import World
@@ -137,48 +136,29 @@ class TruthLabeller:
         texture = carpet_texture(field, TEXEL_M)
         is_line = np.all(texture == np.asarray(LINE_RGB, np.uint8), axis=-1)
         self._carpet_labels = np.where(is_line, int(ColorClass.WHITE), int(ColorClass.GREEN)).astype(np.uint8)
-        self._carpet_half = (field.carpet_half_length, field.carpet_half_width)
-        self._floor_half = world.scene.floor_half_extent
+        self._ground = GroundRenderer(field, world.config.render, world.scene.floor_half_extent)
         self._body_class: dict[int, int] = {world.ball_body_id: int(ColorClass.ORANGE)}
         for color, body in world.scene.goals.items():
             self._body_class[body] = int(GOAL_CLASS[color])
         self._robot_bodies = {world.body_id(rid): rid for rid in world.robot_ids}
-        cam = NAO_CAMERA
-        self._size = (cam.height_px, cam.width_px)
-        self._focal_px = (cam.height_px / 2.0) / math.tan(cam.vertical_fov_rad / 2.0)
-        u, v = np.meshgrid(np.arange(cam.width_px) + 0.5, np.arange(cam.height_px) + 0.5)
-        self._rays = np.stack(
-            [(u - cam.width_px / 2) / self._focal_px, (v - cam.height_px / 2) / self._focal_px, np.ones_like(u)], axis=-1
-        ).reshape(-1, 3)
 
     def labels(self, robot_id: str) -> np.ndarray:
         """Truth labels (H, W) uint8 of what ``robot_id``'s camera sees now."""
-        world, render = self.world, self.world.config.render
+        world, cam = self.world, NAO_CAMERA
         rotation, position = world.camera_pose(robot_id)
-        height, width = self._size
-        projection = pb.computeProjectionMatrixFOV(
-            fov=math.degrees(NAO_CAMERA.vertical_fov_rad),
-            aspect=width / height,
-            nearVal=render.near_m,
-            farVal=render.far_m,
+        _, depth, mask = rendering.camera_buffers(
+            world.client, rotation, position, cam.width_px, cam.height_px, cam.vertical_fov_rad,
+            world.config.render, segmentation=True,
         )
-        _, _, _, depth, mask = pb.getCameraImage(
-            width,
-            height,
-            viewMatrix=rendering.view_matrix(rotation, position),
-            projectionMatrix=projection,
-            lightDirection=render.light_direction,
-            lightAmbientCoeff=render.ambient,
-            lightDiffuseCoeff=render.diffuse,
-            lightSpecularCoeff=render.specular,
-            shadow=0,
-            renderer=pb.ER_TINY_RENDERER,
-            flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
-            physicsClientId=world.client,
-        )
-        labels = self._body_labels(np.reshape(mask, (height, width)).astype(np.int64)).reshape(-1)
-        self._ground_labels(labels, np.reshape(depth, -1), rotation, position)
-        return labels.reshape(height, width)
+        labels = self._body_labels(mask.astype(np.int64)).reshape(-1)
+        # The ground is drawn analytically (world.ground), so the mask does not show it: label
+        # the pixels where the renderer's own ground geometry puts it.
+        focal = rendering.focal_length_px(cam.height_px, cam.vertical_fov_rad)
+        index, x, y = self._ground.hits(depth, rotation, position, focal)
+        on_carpet, rows, cols = self._ground.carpet_texels(x, y)
+        labels[index[on_carpet]] = self._carpet_labels[rows, cols]
+        labels[index[~on_carpet & self._ground.on_floor(x, y)]] = OTHER
+        return labels.reshape(cam.height_px, cam.width_px)
 
     def _body_labels(self, mask: np.ndarray) -> np.ndarray:
         labels = np.full(mask.shape, OTHER, np.uint8)
@@ -193,32 +173,6 @@ class TruthLabeller:
             team = self.world.robot_truth(robot_id).team
             labels[of_robot & (link == int(Joint.WAIST))] = int(WAIST_CLASS[team])
         return labels
-
-    def _ground_labels(self, labels: np.ndarray, depth: np.ndarray, rotation: np.ndarray, position: np.ndarray) -> None:
-        """Overwrite ``labels`` (flat) where the ground is drawn; same arithmetic as GroundRenderer.composite."""
-        render = self.world.config.render
-        rays = self._rays
-        index = np.flatnonzero(rays @ rotation[2] < 0.0)
-        if index.size == 0:
-            return
-        down_rays = rays[index]
-        t = -position[2] / (down_rays @ rotation[2])
-        near, far = render.near_m, render.far_m
-        d = depth[index].astype(float)
-        with np.errstate(divide="ignore"):
-            eye_depth = np.where(d >= BACKGROUND_DEPTH, np.inf, far * near / (far - (far - near) * d))
-        visible = (t > near) & (t < far) & (t <= eye_depth)
-        index, t, down_rays = index[visible], t[visible], down_rays[visible]
-        world_x = position[0] + t * (down_rays @ rotation[0])
-        world_y = position[1] + t * (down_rays @ rotation[1])
-        half_x, half_y = self._carpet_half
-        on_carpet = (np.abs(world_x) < half_x) & (np.abs(world_y) < half_y)
-        cols = ((world_x[on_carpet] + half_x) / TEXEL_M).astype(np.intp)
-        rows = ((half_y - world_y[on_carpet]) / TEXEL_M).astype(np.intp)
-        rows_max, cols_max = self._carpet_labels.shape[0] - 1, self._carpet_labels.shape[1] - 1
-        labels[index[on_carpet]] = self._carpet_labels[np.minimum(rows, rows_max), np.minimum(cols, cols_max)]
-        floor_x, floor_y = self._floor_half
-        labels[index[~on_carpet & (np.abs(world_x) < floor_x) & (np.abs(world_y) < floor_y)]] = OTHER
 
 
 # ---- sampling ---------------------------------------------------------------------------

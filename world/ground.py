@@ -46,6 +46,44 @@ class GroundRenderer:
             self._rays[key] = rays
         return rays
 
+    def hits(
+        self, depth_buffer: np.ndarray, rotation: np.ndarray, position: np.ndarray, focal_px: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where the ground is the nearest thing in view: flat pixel indices and the field (x, y) m there.
+
+        ``depth_buffer`` is TinyRenderer's (h, w) buffer for the camera (rotation
+        camera->world, position in m), whose pixels have ``focal_px`` focal length.
+        """
+        height_px, width_px = depth_buffer.shape
+        rays = self._camera_rays(width_px, height_px, focal_px)
+        # Only rays pointing down can meet the ground; work on those pixels alone.
+        index = np.flatnonzero(rays @ rotation[2] < 0.0)
+        if index.size == 0:
+            return index, np.empty(0), np.empty(0)
+        down_rays = rays[index]
+        t = -position[2] / (down_rays @ rotation[2])  # camera-z depth of the ground along each ray
+        near, far = self._near, self._far
+        depth = depth_buffer.reshape(-1)[index].astype(float)
+        with np.errstate(divide="ignore"):
+            eye_depth = np.where(depth >= BACKGROUND_DEPTH, np.inf, far * near / (far - (far - near) * depth))
+        visible = (t > near) & (t < far) & (t <= eye_depth)
+        t, down_rays = t[visible], down_rays[visible]
+        return index[visible], position[0] + t * (down_rays @ rotation[0]), position[1] + t * (down_rays @ rotation[1])
+
+    def carpet_texels(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Which field points (m) lie on the carpet, and the (row, col) texel of each of those."""
+        half_x, half_y = self._carpet_half
+        on_carpet = (np.abs(x) < half_x) & (np.abs(y) < half_y)
+        cols = ((x[on_carpet] + half_x) / self._texel).astype(np.intp)
+        rows = ((half_y - y[on_carpet]) / self._texel).astype(np.intp)
+        rows_max, cols_max = self._carpet.shape[0] - 1, self._carpet.shape[1] - 1
+        return on_carpet, np.minimum(rows, rows_max), np.minimum(cols, cols_max)
+
+    def on_floor(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Which field points (m) lie on the hall's floor (inside the walls)."""
+        floor_x, floor_y = self._floor_half
+        return (np.abs(x) < floor_x) & (np.abs(y) < floor_y)
+
     def composite(
         self,
         image: np.ndarray,
@@ -54,39 +92,12 @@ class GroundRenderer:
         position: np.ndarray,
         focal_px: float,
     ) -> np.ndarray:
-        """Draw the ground into ``image`` (h, w, 3) wherever it is nearer than what is there.
-
-        ``depth_buffer`` is TinyRenderer's (h, w) buffer for the same camera (rotation
-        camera->world, position in m), whose pixels have ``focal_px`` focal length.
-        """
-        height_px, width_px = depth_buffer.shape
-        rays = self._camera_rays(width_px, height_px, focal_px)
-        # Only rays pointing down can meet the ground; work on those pixels alone.
-        index = np.flatnonzero(rays @ rotation[2] < 0.0)
+        """Draw the ground into ``image`` (h, w, 3) wherever it is nearer than what is there (see :meth:`hits`)."""
+        index, world_x, world_y = self.hits(depth_buffer, rotation, position, focal_px)
         if index.size == 0:
             return image
-        down_rays = rays[index]
-        t = -position[2] / (down_rays @ rotation[2])  # camera-z depth of the ground along each ray
-        near, far = self._near, self._far
-        depth = depth_buffer.reshape(-1)[index].astype(float)
-        with np.errstate(divide="ignore"):
-            eye_depth = np.where(depth >= BACKGROUND_DEPTH, np.inf, far * near / (far - (far - near) * depth))
-        visible = (t > near) & (t < far) & (t <= eye_depth)
-        index = index[visible]
-        if index.size == 0:
-            return image
-        t_vis = t[visible]
-        down_rays = down_rays[visible]
-        world_x = position[0] + t_vis * (down_rays @ rotation[0])
-        world_y = position[1] + t_vis * (down_rays @ rotation[1])
         out = image.reshape(-1, 3)
-        half_x, half_y = self._carpet_half
-        on_carpet = (np.abs(world_x) < half_x) & (np.abs(world_y) < half_y)
-        cols = ((world_x[on_carpet] + half_x) / self._texel).astype(np.intp)
-        rows = ((half_y - world_y[on_carpet]) / self._texel).astype(np.intp)
-        rows_max, cols_max = self._carpet.shape[0] - 1, self._carpet.shape[1] - 1
-        out[index[on_carpet]] = self._carpet[np.minimum(rows, rows_max), np.minimum(cols, cols_max)]
-        floor_x, floor_y = self._floor_half
-        on_floor = ~on_carpet & (np.abs(world_x) < floor_x) & (np.abs(world_y) < floor_y)
-        out[index[on_floor]] = self._floor
+        on_carpet, rows, cols = self.carpet_texels(world_x, world_y)
+        out[index[on_carpet]] = self._carpet[rows, cols]
+        out[index[~on_carpet & self.on_floor(world_x, world_y)]] = self._floor
         return image

@@ -44,6 +44,47 @@ def look_at(eye, target, up) -> tuple[np.ndarray, np.ndarray]:
     return np.stack([right, down, forward], axis=1), position
 
 
+def camera_buffers(
+    client: int,
+    rotation: np.ndarray,
+    position: np.ndarray,
+    width_px: int,
+    height_px: int,
+    vertical_fov_rad: float,
+    render_config: RenderConfig,
+    segmentation: bool = False,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """TinyRenderer's buffers for a camera pose, square pixels: RGB (h, w, 3) uint8, depth (h, w)
+    and, with ``segmentation``, pybullet's object-and-link mask (h, w) (else None)."""
+    projection = pb.computeProjectionMatrixFOV(
+        fov=math.degrees(vertical_fov_rad),
+        aspect=width_px / height_px,
+        nearVal=render_config.near_m,
+        farVal=render_config.far_m,
+    )
+    _, _, rgba, depth, mask = pb.getCameraImage(
+        width_px,
+        height_px,
+        viewMatrix=view_matrix(rotation, position),
+        projectionMatrix=projection,
+        lightDirection=render_config.light_direction,
+        lightAmbientCoeff=render_config.ambient,
+        lightDiffuseCoeff=render_config.diffuse,
+        lightSpecularCoeff=render_config.specular,
+        shadow=0,
+        renderer=pb.ER_TINY_RENDERER,
+        flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX if segmentation else pb.ER_NO_SEGMENTATION_MASK,
+        physicsClientId=client,
+    )
+    image = np.ascontiguousarray(np.reshape(rgba, (height_px, width_px, 4))[:, :, :3], dtype=np.uint8)
+    labels = np.reshape(mask, (height_px, width_px)) if segmentation else None
+    return image, np.reshape(depth, (height_px, width_px)), labels
+
+
+def focal_length_px(height_px: int, vertical_fov_rad: float) -> float:
+    return (height_px / 2.0) / math.tan(vertical_fov_rad / 2.0)
+
+
 def render(
     client: int,
     rotation: np.ndarray,
@@ -59,30 +100,9 @@ def render(
     With ``ground``, TinyRenderer draws the bodies and the ground plane is composited in
     analytically (the scene's ground visuals must then be hidden, see :mod:`world.ground`).
     """
-    projection = pb.computeProjectionMatrixFOV(
-        fov=math.degrees(vertical_fov_rad),
-        aspect=width_px / height_px,
-        nearVal=render_config.near_m,
-        farVal=render_config.far_m,
-    )
-    _, _, rgba, depth, _ = pb.getCameraImage(
-        width_px,
-        height_px,
-        viewMatrix=view_matrix(rotation, position),
-        projectionMatrix=projection,
-        lightDirection=render_config.light_direction,
-        lightAmbientCoeff=render_config.ambient,
-        lightDiffuseCoeff=render_config.diffuse,
-        lightSpecularCoeff=render_config.specular,
-        shadow=0,
-        renderer=pb.ER_TINY_RENDERER,
-        flags=pb.ER_NO_SEGMENTATION_MASK,
-        physicsClientId=client,
-    )
-    image = np.ascontiguousarray(np.reshape(rgba, (height_px, width_px, 4))[:, :, :3], dtype=np.uint8)
+    image, depth, _ = camera_buffers(client, rotation, position, width_px, height_px, vertical_fov_rad, render_config)
     if ground is not None:
-        focal_px = (height_px / 2.0) / math.tan(vertical_fov_rad / 2.0)
-        ground.composite(image, np.reshape(depth, (height_px, width_px)), rotation, position, focal_px)
+        ground.composite(image, depth, rotation, position, focal_length_px(height_px, vertical_fov_rad))
     return image
 
 

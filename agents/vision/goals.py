@@ -169,7 +169,8 @@ def _ground_gap_m(a: tuple[PostBlob, float, float], b: tuple[PostBlob, float, fl
     return math.hypot(da * math.cos(ba) - db * math.cos(bb), da * math.sin(ba) - db * math.sin(bb))
 
 
-def _post_id(goal: GoalColor, is_left: bool) -> LandmarkId:
+def post_id(goal: GoalColor, is_left: bool) -> LandmarkId:
+    """The id of a goal's left or right post (as seen from the field)."""
     return LandmarkId[f"{goal.name}_GOAL_{'LEFT' if is_left else 'RIGHT'}_POST"]
 
 
@@ -188,8 +189,7 @@ def detect_goals(
     radius = FIELD.goal_post_radius
     for goal in GoalColor:
         kept: list[tuple[PostBlob, float, float]] = []
-        posts_of_goal = find_posts(labels, goal)
-        for post in posts_of_goal:
+        for post in find_posts(labels, goal):
             reason = ""
             ground = model.locate(frame, post.base_u, post.base_v)
             distance = float(ground.distance_m) + radius  # the base pixel is the post's front
@@ -234,7 +234,7 @@ def _goal_percepts(
             bearing,
             distance,
             model_name,
-            landmark_id=None if is_left is None else _post_id(goal, is_left),
+            landmark_id=None if is_left is None else post_id(goal, is_left),
             goal=goal,
             post_side=side,
         )

@@ -24,11 +24,11 @@ import numpy as np
 
 from agents.vision.errors import VisionConfigError
 from agents.vision.frame import CameraFrame
-from agents.vision.goals import crossbar_sides
+from agents.vision.goals import crossbar_sides, post_id
 from agents.vision.percepts import LandmarkPercept, PostSide
 from agents.vision.pipeline import FrameResult, VisionPipeline
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
-from world.field import LandmarkId, LandmarkKind
+from world.field import LandmarkKind
 
 LOG = logging.getLogger(__name__)
 
@@ -129,10 +129,8 @@ class HeadScan:
             sides = [(abs(u - percept.pixel[0]), is_left) for u, is_left in crossbar_sides(labels, percept.goal)]
             sides = [s for s in sides if s[0] <= CROSSBAR_MATCH_PX]
             if sides:
-                is_left = min(sides)[1]
-                landmark = LandmarkId[f"{percept.goal.name}_GOAL_{'LEFT' if is_left else 'RIGHT'}_POST"]
                 self._percepts[frame_index][index] = dataclasses.replace(
-                    percept, landmark_id=landmark, post_side=PostSide.CROSSBAR
+                    percept, landmark_id=post_id(percept.goal, min(sides)[1]), post_side=PostSide.CROSSBAR
                 )
 
     def result(self) -> ScanResult:

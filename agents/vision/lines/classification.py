@@ -33,8 +33,8 @@ CORNER_A_MIN = 5.2  # thesis Table 4.3: corner when |a| >= 5.2
 CURVE_B_MAX = 0.6  # thesis Table 4.3: half-circles and corners need -0.6 < b < 0.6
 SIDE_B_MIN = 0.07  # thesis Table 4.3: side line when |b| > 0.07, else straight
 HALF_A_MIN = 1.0  # thesis 4.5.4: a curve is verified when |a1| > 1 and |a2| > 1
-# Not in the thesis: a line of fewer than two segments (6 black lines) is classified by its
-# gradient only (a taken as 0). Three to five midpoints 5 px apart, quantized to half
+# Not in the thesis: a line of fewer than MIN_CURVE_BLACK_LINES black lines is classified by
+# its gradient only (a taken as 0). Three to five midpoints 5 px apart, quantized to half
 # pixels, give a parabola with |a| up to ~10 (scaled) on a perfectly straight line, beyond
 # every threshold of Table 4.3; such short pieces come from Split cutting a line whose
 # slope is near Algorithm 3's 2 px-per-segment threshold (about 0.2 rows per column).
