@@ -268,7 +268,7 @@ def test_find_junction():
     _, lines = find_lines(labels, flat_border())
     corners, junctions = detect_corners_and_junctions(lines)
     assert corners == ()
-    assert len(junctions) == 1 and math.dist(junctions[0], (80, 50)) < 6.0
+    assert len(junctions) == 1 and math.dist(junctions[0].pixel, (80, 50)) < 6.0
 
 
 def test_parallel_pieces_of_one_line_are_no_corner():
@@ -389,13 +389,53 @@ def test_rendered_l_corner(one_robot_world, model_name, pose, yaw, landmark):
 
 @pytest.mark.render
 @pytest.mark.parametrize("model_name", ["exact", "thesis"])
-@pytest.mark.parametrize("pose, yaw", [((0.57, 0.67, 2.708), -0.5), ((-1.86, 0.61, 0.353), 0.5)])
+@pytest.mark.parametrize("pose, yaw", [((0.57, 0.67, 2.708), -0.75), ((-1.86, 0.61, 0.353), 0.5)])
 def test_rendered_t_junction(one_robot_world, model_name, pose, yaw):
     frame, true_pose = observe(one_robot_world, pose, yaw)
     percepts, _ = percepts_of(frame, model_name)
     target = FIELD.landmark(LandmarkId.T_JUNCTION_LEFT)
     junction = assert_seen(percepts, LandmarkKind.T_JUNCTION, *truth(true_pose, target.x, target.y))
     assert junction.landmark_id is None
+
+
+def sightings_near(frame, model_name, true_pose, x, y, radius_m=0.3):
+    """(raw FindCorner/Find Junction sightings, verified L/T percepts) within ``radius_m`` of field point (x, y)."""
+    labels = ColorTable(load_thresholds()).segment(frame.image)
+    border = find_border(labels)
+    model = camera_model(model_name)
+    corners, junctions = detect_corners_and_junctions(find_lines(labels, border)[1])
+    bearing, distance = truth(true_pose, x, y)
+    tx, ty = distance * math.cos(bearing), distance * math.sin(bearing)
+    pixels = [c.pixel for c in corners] + [j.pixel for j in junctions]
+    raw = 0
+    if pixels:
+        u, v = np.array(pixels, float).T
+        xy = model.locate(frame, u, v).xy()
+        raw = int((np.hypot(xy[:, 0] - tx, xy[:, 1] - ty) <= radius_m).sum())
+    percepts, _ = detect_line_landmarks(labels, border, frame, model)
+    kept = [
+        p
+        for p in percepts
+        if p.kind in (LandmarkKind.L_CORNER, LandmarkKind.T_JUNCTION) and math.hypot(p.x_m - tx, p.y_m - ty) <= radius_m
+    ]
+    return raw, kept
+
+
+@pytest.mark.render
+@pytest.mark.parametrize("model_name", ["exact", "thesis"])
+@pytest.mark.parametrize(
+    "pose, crossing",
+    [
+        ((1.73, -0.4, 2.618), (0.0, 0.6)),  # the centre circle crossing the middle line
+        ((1.87, 0.45, 0.524), (3.0, 1.1)),  # a goal-area line meeting the goal line
+        ((2.2, -0.29, 1.047), (3.0, 1.1)),
+    ],
+)
+def test_rendered_crossings_that_are_no_landmarks_are_dropped(one_robot_world, model_name, pose, crossing):
+    frame, true_pose = observe(one_robot_world, pose, 0.0)
+    raw, kept = sightings_near(frame, model_name, true_pose, *crossing)
+    assert raw >= 1, "FindCorner/Find Junction should see the crossing (else this test tests nothing)"
+    assert kept == []
 
 
 @pytest.mark.render

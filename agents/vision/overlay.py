@@ -27,6 +27,7 @@ REJECTED_RGB = (255, 0, 0)
 LINE_RGB = (0, 0, 255)
 CURVE_RGB = (255, 0, 255)
 LABEL_RGB = (255, 0, 0)
+DROPPED_RGB = (128, 128, 128)  # corners and junctions the verification dropped
 _PALETTE = np.array([DISPLAY_RGB[c] for c in sorted(DISPLAY_RGB)], np.uint8)
 
 
@@ -64,11 +65,13 @@ def _draw_lines(canvas: np.ndarray, trace: LineTrace, scale: int, off: int) -> N
         curve = [_point(scale, x, a * x * x + b * x + c, off) for x in u]
         cv2.polylines(canvas, [np.array(curve, np.int32)], False, CURVE_RGB, 1)
         cv2.putText(canvas, line.kind.value, (points[0][0], points[0][1] - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.3, CURVE_RGB, 1)
-    marks = [c.pixel for c in trace.corners] + list(trace.junctions)
+    marks = [c.pixel for c in trace.corners] + [j.pixel for j in trace.junctions]
     if trace.circle is not None and trace.circle.accepted:
         marks += list(trace.circle.pixels)
     for u, v in marks:
         cv2.drawMarker(canvas, _point(scale, u, v, off), LABEL_RGB, cv2.MARKER_CROSS, 3 * scale, 2)
+    for u, v in trace.rejected:
+        cv2.drawMarker(canvas, _point(scale, u, v, off), DROPPED_RGB, cv2.MARKER_TILTED_CROSS, 3 * scale, 1)
 
 
 def draw_overlay(result: FrameResult, image: np.ndarray, scale: int = 4) -> np.ndarray:

@@ -54,15 +54,35 @@ CORNER_MIN_ANGLE_RAD = math.radians(15.0)
 # |a| >= 5.2, but its extreme point is then one of its ends.
 LINE_CORNER_MIN_RISE_PX = 2.0
 
+# Not in the thesis: an arm's direction at a vertex is taken to its midpoint this many scan
+# columns away (a curved arm's far end is off its tangent).
+TANGENT_COLUMNS = 3
+
 _RANK = {Direction.UP: 1, Direction.STRAIGHT: 0, Direction.DOWN: -1}
 
 
 @dataclass(frozen=True)
 class CornerSighting:
-    """An L corner in the image: its pixel (u, v) and how it appears."""
+    """An L corner in the image: its pixel (u, v) and how it appears.
+
+    ``arm_ends``: the far end of each arm; ``arm_near``: a point of each arm
+    TANGENT_COLUMNS scan columns from the vertex, giving its direction there (pixels).
+    """
 
     pixel: tuple[float, float]
     shape: CornerShape
+    arm_ends: tuple[tuple[float, float], tuple[float, float]]
+    arm_near: tuple[tuple[float, float], tuple[float, float]]
+
+
+@dataclass(frozen=True)
+class JunctionSighting:
+    """A T junction in the image: its pixel (u, v), its stem's far end and near point (as for corners), and its bar's ends."""
+
+    pixel: tuple[float, float]
+    stem_end: tuple[float, float]
+    stem_near: tuple[float, float]
+    bar_ends: tuple[tuple[float, float], tuple[float, float]]
 
 
 @dataclass(frozen=True)
@@ -82,6 +102,13 @@ class CircleSighting:
     radius_m: float
     residual_m: float
     accepted: bool
+
+
+def _near_point(line: ClassifiedLine, at_end: bool) -> tuple[float, float]:
+    """The midpoint of ``line`` TANGENT_COLUMNS from its end (``at_end``) or its start, or its other end if shorter."""
+    k = min(TANGENT_COLUMNS, len(line.u) - 1)
+    i = len(line.u) - 1 - k if at_end else k
+    return float(line.u[i]), float(line.v[i])
 
 
 def _crossing(l1: ClassifiedLine, l2: ClassifiedLine, near: tuple[float, float]) -> tuple[float, float]:
@@ -110,25 +137,35 @@ def find_corner(l1: ClassifiedLine, l2: ClassifiedLine) -> CornerSighting | None
     angle = abs(math.atan(l1.straight_fit[0]) - math.atan(l2.straight_fit[0]))
     if min(angle, math.pi - angle) < CORNER_MIN_ANGLE_RAD:
         return None
-    pairs = (("end_start", l1.end, l2.start), ("end_end", l1.end, l2.end), ("start_start", l1.start, l2.start))
-    which, p, q = min(pairs, key=lambda item: math.hypot(item[1][0] - item[2][0], item[1][1] - item[2][1]))
+    # (which ends meet, l1's meeting end, l2's meeting end, l1's far end, l2's far end, whether
+    # l1 meets at its end, whether l2 does)
+    pairs = (
+        ("end_start", l1.end, l2.start, l1.start, l2.end, True, False),
+        ("end_end", l1.end, l2.end, l1.start, l2.start, True, True),
+        ("start_start", l1.start, l2.start, l1.end, l2.end, False, False),
+    )
+    which, p, q, far1, far2, at1, at2 = min(
+        pairs, key=lambda item: math.hypot(item[1][0] - item[2][0], item[1][1] - item[2][1])
+    )
     if abs(p[0] - q[0]) > CORNER_MAX_WIDTH_PX or abs(p[1] - q[1]) > CORNER_MAX_HEIGHT_PX:
         return None
     if which == "end_start":
         shape = CornerShape.UP if _RANK[d1] > _RANK[d2] else CornerShape.DOWN
     else:
         shape = CornerShape.RIGHT if which == "end_end" else CornerShape.LEFT
-    return CornerSighting(_crossing(l1, l2, ((p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0)), shape)
+    vertex = _crossing(l1, l2, ((p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0))
+    return CornerSighting(vertex, shape, (far1, far2), (_near_point(l1, at1), _near_point(l2, at2)))
 
 
-def find_junction(stem: ClassifiedLine, bar: ClassifiedLine) -> tuple[float, float] | None:
-    """Find Junction: the pixel where an end of ``stem`` meets ``bar`` inside its span, or None."""
-    for end in (stem.start, stem.end):
+def find_junction(stem: ClassifiedLine, bar: ClassifiedLine) -> JunctionSighting | None:
+    """Find Junction: where an end of ``stem`` meets ``bar`` inside its span, or None."""
+    for end, far, at_end in ((stem.start, stem.end, False), (stem.end, stem.start, True)):
         if not bar.u[0] + JUNCTION_END_MARGIN_PX <= end[0] <= bar.u[-1] - JUNCTION_END_MARGIN_PX:
             continue
         bar_v = float(np.interp(end[0], bar.u, bar.v))
         if abs(end[1] - bar_v) <= JUNCTION_MAX_HEIGHT_PX:
-            return _crossing(stem, bar, (end[0], bar_v))
+            vertex = _crossing(stem, bar, (end[0], bar_v))
+            return JunctionSighting(vertex, far, _near_point(stem, at_end), (bar.start, bar.end))
     return None
 
 
@@ -143,15 +180,20 @@ def line_corner(line: ClassifiedLine) -> CornerSighting | None:
     rise = min(sign * (line.v[0] - line.v[k]), sign * (line.v[-1] - line.v[k]))
     if rise < LINE_CORNER_MIN_RISE_PX:
         return None
-    return CornerSighting((float(line.u[k]), float(line.v[k])), CornerShape.UP if up else CornerShape.DOWN)
+    vertex = (float(line.u[k]), float(line.v[k]))
+    near = (
+        (float(line.u[max(0, k - TANGENT_COLUMNS)]), float(line.v[max(0, k - TANGENT_COLUMNS)])),
+        (float(line.u[min(len(line.u) - 1, k + TANGENT_COLUMNS)]), float(line.v[min(len(line.u) - 1, k + TANGENT_COLUMNS)])),
+    )
+    return CornerSighting(vertex, CornerShape.UP if up else CornerShape.DOWN, (line.start, line.end), near)
 
 
 def detect_corners_and_junctions(
     lines: tuple[ClassifiedLine, ...],
-) -> tuple[tuple[CornerSighting, ...], tuple[tuple[float, float], ...]]:
+) -> tuple[tuple[CornerSighting, ...], tuple[JunctionSighting, ...]]:
     """DetectCornersAndJunctions over all pairs of side lines, plus the lines that are corners."""
     corners = [corner for line in lines if line.kind.is_corner and (corner := line_corner(line)) is not None]
-    junctions: list[tuple[float, float]] = []
+    junctions: list[JunctionSighting] = []
     sides = sorted((line for line in lines if line.kind.side_direction is not None), key=lambda line: line.start)
     for i, l1 in enumerate(sides):
         for l2 in sides[i + 1 :]:
@@ -162,15 +204,15 @@ def detect_corners_and_junctions(
             junction = find_junction(l1, l2) or find_junction(l2, l1)
             if junction is not None:
                 junctions.append(junction)
-    return _distinct(corners, key=lambda c: c.pixel), _distinct(junctions, key=lambda p: p)
+    return distinct_sightings(corners), distinct_sightings(junctions)
 
 
-def _distinct(items: list, key) -> tuple:
-    """Items whose pixels are at least two scan columns from an earlier one's."""
+def distinct_sightings(items: list) -> tuple:
+    """The sightings (with a ``pixel``) whose pixels are at least two scan columns from an earlier one's."""
     out: list = []
     for item in items:
-        u, v = key(item)
-        if all(math.hypot(u - key(o)[0], v - key(o)[1]) >= 2 * DIST for o in out):
+        u, v = item.pixel
+        if all(math.hypot(u - o.pixel[0], v - o.pixel[1]) >= 2 * DIST for o in out):
             out.append(item)
     return tuple(out)
 

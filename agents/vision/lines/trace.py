@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from agents.vision.lines.classification import ClassifiedLine
-from agents.vision.lines.landmarks import CircleSighting, CornerSighting
+from agents.vision.lines.landmarks import CircleSighting, CornerSighting, JunctionSighting
 from agents.vision.lines.scan_lines import BlackLines
 
 
@@ -17,14 +17,17 @@ class LineTrace:
     (0 = kept; overlay colours in :data:`~agents.vision.lines.scan_lines.CRITERION_COLOR`);
     ``lines``: the lines after split and merge, with their midpoints (pixels), Table 4.2
     sequence, classification and fitted ``(a, b, c)``; ``corners``/``junctions``: the L
-    corner and T junction pixels (u, v); ``circle``: the located half-circle, if any
-    (``circle.accepted`` False when its radius failed the sanity check).
+    corners and T junctions that passed the checks of
+    :mod:`~agents.vision.lines.verification` (an L corner may have become a T junction);
+    ``rejected``: the pixels (u, v) of the sightings those checks dropped; ``circle``: the
+    located half-circle, if any (``circle.accepted`` False when it failed its sanity checks).
     """
 
     black_lines: BlackLines
     lines: tuple[ClassifiedLine, ...] = ()
     corners: tuple[CornerSighting, ...] = ()
-    junctions: tuple[tuple[float, float], ...] = ()
+    junctions: tuple[JunctionSighting, ...] = ()
+    rejected: tuple[tuple[float, float], ...] = ()
     circle: CircleSighting | None = None
 
     @classmethod
