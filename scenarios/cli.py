@@ -246,7 +246,52 @@ def _add_perception(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=handler)
 
 
-SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (_add_world_demo, _add_bench, _add_match, _add_calibrate_colors, _add_perception)
+def _add_localize(subparsers: argparse._SubParsersAction) -> None:
+    parser = _add_subparser(
+        subparsers,
+        "localize",
+        help="scenario 1 of thesis chapter 6: one robot alone, move, scan, localize with every method",
+        description="One robot alone on the field repeats a random motion, a five-frame head scan and a "
+        "localization with each method side by side on the same percepts; each estimate is compared with "
+        "the robot's true pose. Prints mean and median errors and the median localize() time per method.",
+    )
+
+    def method_list(text: str) -> tuple[str, ...]:
+        from agents.localization import LOCALIZERS
+
+        names = tuple(name.strip() for name in text.split(",") if name.strip())
+        if not names or any(n not in LOCALIZERS for n in names) or len(set(names)) != len(names):
+            raise argparse.ArgumentTypeError(f"expected distinct names among {sorted(LOCALIZERS)}, got {text!r}")
+        return names
+
+    parser.add_argument("--samples", type=positive_int, default=50, metavar="N", help="localizations (default 50)")
+    parser.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    parser.add_argument("--methods", type=method_list, default=("thesis", "particle", "hybrid", "odometry"),
+                        metavar="M1,M2", help="localization methods, comma-separated (default thesis,particle,hybrid,odometry)")
+
+    def handler(args: argparse.Namespace) -> int:
+        from scenarios.localization_run import run_alone, summarize
+
+        result = run_alone(args.samples, args.seed, args.methods)
+        print("| method | samples | position mean / median (cm) | orientation mean / median (deg) | localize ms (median) |")
+        print("|---|---|---|---|---|")
+        for method, s in summarize(result.samples).items():
+            print(f"| {method} | {s['with_estimate']}/{s['samples']} | {s['position_mean_cm']:.1f} / {s['position_median_cm']:.1f} "
+                  f"| {s['orientation_mean_deg']:.1f} / {s['orientation_median_deg']:.1f} | {s['localize_ms_median']:.2f} |")
+        print(f"{args.samples} samples, {result.sim_seconds:.0f} s simulated in {result.wall_seconds:.1f} s")
+        return EXIT_OK
+
+    parser.set_defaults(handler=handler)
+
+
+SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (
+    _add_world_demo,
+    _add_bench,
+    _add_match,
+    _add_calibrate_colors,
+    _add_perception,
+    _add_localize,
+)
 
 
 # ---- entry point -------------------------------------------------------------------------

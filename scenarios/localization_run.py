@@ -13,7 +13,7 @@ import logging
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -57,6 +57,9 @@ class LocalizationSample:
     est_theta: float
     landmarks_used: int
     percepts: int
+    # Wall time of the method's localize(): a measurement of the machine, not of the match,
+    # so it is left out of comparisons.
+    compute_ms: float = field(default=math.nan, compare=False, repr=False)
 
     @property
     def position_error_m(self) -> float:
@@ -119,7 +122,8 @@ def run_alone(
 def _samples(world: World, event, run: int) -> list[LocalizationSample]:
     truth = world.robot_pose(ROBOT)
     rows = []
-    for method, estimate in event.estimates:
+    compute = event.compute_ms or (math.nan,) * len(event.estimates)
+    for (method, estimate), ms in zip(event.estimates, compute):
         if estimate is None:
             ex = ey = et = math.nan
             used = 0
@@ -129,14 +133,14 @@ def _samples(world: World, event, run: int) -> list[LocalizationSample]:
         rows.append(
             LocalizationSample(
                 run, ROBOT, method, event.index, world.time_s, truth.x, truth.y, truth.theta, ex, ey, et, used,
-                len(event.percepts),
+                len(event.percepts), ms,
             )
         )
     return rows
 
 
 def summarize(samples: Sequence[LocalizationSample]) -> dict[str, dict[str, float]]:
-    """Per method: mean position error (cm), mean orientation error (deg), medians, and counts."""
+    """Per method: mean and median position (cm) and orientation (deg) errors, counts, median localize() ms."""
     out: dict[str, dict[str, float]] = {}
     for method in dict.fromkeys(s.method for s in samples):
         rows = [s for s in samples if s.method == method]
@@ -150,5 +154,6 @@ def summarize(samples: Sequence[LocalizationSample]) -> dict[str, dict[str, floa
             "position_median_cm": float(np.median(pos[ok]) * 100.0) if ok.any() else math.nan,
             "orientation_mean_deg": float(np.mean(ori[ok])) if ok.any() else math.nan,
             "orientation_median_deg": float(np.median(ori[ok])) if ok.any() else math.nan,
+            "localize_ms_median": float(np.nanmedian([s.compute_ms for s in rows])) if rows else math.nan,
         }
     return out

@@ -114,6 +114,9 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
         ["bench", "--out", "unused", "--repeats", "many"],
         ["bench", "--out", "unused", "--quick", "--repeats", "5"],
         ["bench"],
+        ["localize", "--methods", "thesis,kalman"],
+        ["localize", "--methods", "thesis,thesis"],
+        ["localize", "--samples", "0"],
         ["no-such-command"],
         [],
     ],
@@ -151,3 +154,9 @@ def test_module_entry_point(tmp_path: Path) -> None:
     )
     assert result.returncode == 2
     assert "positive integer" in result.stderr
+
+
+def test_localize_prints_one_row_per_method(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["localize", "--samples", "2", "--seed", "1", "--methods", "thesis,odometry"]) == 0
+    out = capsys.readouterr().out
+    assert "| thesis | " in out and "| odometry | " in out and "2 samples" in out

@@ -20,6 +20,7 @@ from __future__ import annotations
 import enum
 import logging
 import math
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -62,13 +63,15 @@ class LocalizationEvent:
 
     ``index``: the event's number (0, 1, ...); ``step``: the agent's control step count;
     ``estimates``: (method name, estimate or None for "no estimate") in the order of the
-    agent's methods; ``percepts``: the fused percepts of the scan.
+    agent's methods; ``percepts``: the fused percepts of the scan; ``compute_ms``: the
+    wall time each method's ``localize`` took, same order.
     """
 
     index: int
     step: int
     estimates: tuple[tuple[str, PoseEstimate | None], ...]
     percepts: tuple[LandmarkPercept, ...]
+    compute_ms: tuple[float, ...] = ()
 
     def estimate(self, method: str) -> PoseEstimate | None:
         return dict(self.estimates)[method]
@@ -149,11 +152,16 @@ class ScanLocalizeAgent:
         return make_action(Motion.STAND, head=(target.yaw_rad, target.pitch_rad), camera=CameraChoice.TOP)
 
     def _localize(self, percepts: tuple[LandmarkPercept, ...]) -> None:
-        estimates = tuple((name, self.localizers[name].localize(percepts)) for name in self.methods)
+        results, compute_ms = [], []
+        for name in self.methods:
+            started = time.perf_counter()
+            results.append((name, self.localizers[name].localize(percepts)))
+            compute_ms.append((time.perf_counter() - started) * 1e3)
+        estimates = tuple(results)
         guide = estimates[0][1]
         if guide is not None:
             self.belief = Pose2D(guide.x_m, guide.y_m, guide.theta_rad)
-        self.events.append(LocalizationEvent(len(self.events), self.step, estimates, percepts))
+        self.events.append(LocalizationEvent(len(self.events), self.step, estimates, percepts, tuple(compute_ms)))
         LOG.debug("localization %d: %d percepts, %s", len(self.events) - 1, len(percepts), estimates)
 
     def _choose_motion(self) -> Motion:
