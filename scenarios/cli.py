@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 from scenarios.bench import DEFAULT_REPEATS, QUICK_REPEATS, format_table, run_bench
@@ -103,6 +103,19 @@ def _add_bench(subparsers: argparse._SubParsersAction) -> None:
         return EXIT_OK
 
     parser.set_defaults(handler=handler)
+
+
+def name_list(choices: Callable[[], Iterable[str]]) -> Callable[[str], tuple[str, ...]]:
+    """An argument type: comma-separated distinct names, each one of ``choices()`` (loaded when parsing)."""
+
+    def parse(text: str) -> tuple[str, ...]:
+        allowed = sorted(choices())
+        names = tuple(name.strip() for name in text.split(",") if name.strip())
+        if not names or any(n not in allowed for n in names) or len(set(names)) != len(names):
+            raise argparse.ArgumentTypeError(f"expected distinct names among {allowed}, got {text!r}")
+        return names
+
+    return parse
 
 
 def positive_float(text: str) -> float:
@@ -208,20 +221,17 @@ def _add_perception(subparsers: argparse._SubParsersAction) -> None:
             raise argparse.ArgumentTypeError(f"expected an integer 0-{MAX_CROWD}, got {value}")
         return value
 
-    def model_list(text: str) -> tuple[str, ...]:
-        from agents.vision.camera_models import CAMERA_MODELS
-
-        names = tuple(name.strip() for name in text.split(",") if name.strip())
-        if not names or any(n not in CAMERA_MODELS for n in names) or len(set(names)) != len(names):
-            raise argparse.ArgumentTypeError(f"expected distinct names among {sorted(CAMERA_MODELS)}, got {text!r}")
-        return names
-
     parser.add_argument("--frames", type=positive_int, required=True, metavar="N", help="frames to render")
     parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
     parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="output directory (created)")
     parser.add_argument("--crowd", type=crowd_count, default=0, metavar="K",
                         help=f"other robots standing on the field, 0-{MAX_CROWD} (default 0)")
-    parser.add_argument("--models", type=model_list, default=("exact", "thesis"), metavar="M1,M2",
+    def camera_models() -> Iterable[str]:
+        from agents.vision.camera_models import CAMERA_MODELS
+
+        return CAMERA_MODELS
+
+    parser.add_argument("--models", type=name_list(camera_models), default=("exact", "thesis"), metavar="M1,M2",
                         help="camera models to score, comma-separated (default exact,thesis)")
     parser.add_argument("--max-range-m", type=positive_float, default=4.0, metavar="M",
                         help="landmarks farther than this are not expected and their errors not counted (default 4)")
@@ -256,17 +266,14 @@ def _add_localize(subparsers: argparse._SubParsersAction) -> None:
         "the robot's true pose. Prints mean and median errors and the median localize() time per method.",
     )
 
-    def method_list(text: str) -> tuple[str, ...]:
-        from agents.localization import LOCALIZERS
-
-        names = tuple(name.strip() for name in text.split(",") if name.strip())
-        if not names or any(n not in LOCALIZERS for n in names) or len(set(names)) != len(names):
-            raise argparse.ArgumentTypeError(f"expected distinct names among {sorted(LOCALIZERS)}, got {text!r}")
-        return names
-
     parser.add_argument("--samples", type=positive_int, default=50, metavar="N", help="localizations (default 50)")
     parser.add_argument("--seed", type=int, default=0, help="seed (default 0)")
-    parser.add_argument("--methods", type=method_list, default=("thesis", "particle", "hybrid", "odometry"),
+    def methods() -> Iterable[str]:
+        from agents.localization import LOCALIZERS
+
+        return LOCALIZERS
+
+    parser.add_argument("--methods", type=name_list(methods), default=("thesis", "particle", "hybrid", "odometry"),
                         metavar="M1,M2", help="localization methods, comma-separated (default thesis,particle,hybrid,odometry)")
 
     def handler(args: argparse.Namespace) -> int:

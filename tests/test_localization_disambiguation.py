@@ -9,7 +9,6 @@ from collections import Counter
 import numpy as np
 import pytest
 from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from agents.localization.disambiguation import (
     CORNER_POST_MAX_ANGLE_RAD,
@@ -21,6 +20,7 @@ from agents.localization.disambiguation import (
 )
 from agents.vision.percepts import CornerShape, LandmarkPercept, PostSide
 from scenarios.oracle_percepts import oracle_percepts
+from tests.strategies import field_pose
 from world.field import FIELD, LandmarkId, LandmarkKind, Pose2D, normalize_angle
 
 AMBIGUOUS = (LandmarkKind.L_CORNER, LandmarkKind.T_JUNCTION)
@@ -60,14 +60,6 @@ def test_the_table_covers_every_post_and_shape_and_every_corner():
     for post, junctions in junction_table().items():
         assert len(junctions) == 1
         assert math.copysign(1, FIELD.landmark(junctions[0]).y) == math.copysign(1, FIELD.landmark(post).y)
-
-
-field_pose = st.builds(
-    Pose2D,
-    st.floats(-FIELD.half_length, FIELD.half_length),
-    st.floats(-FIELD.half_width, FIELD.half_width),
-    st.floats(-math.pi, math.pi),
-)
 
 
 @settings(max_examples=300, deadline=None)

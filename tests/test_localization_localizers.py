@@ -23,6 +23,7 @@ from agents.localization.thesis_method import REASON_ALL_REJECTED, REASON_FEW_LA
 from agents.vision.percepts import CornerShape, LandmarkPercept
 from match.protocol import Displacement
 from scenarios.oracle_percepts import oracle_percepts
+from tests.strategies import field_pose
 from world.field import FIELD, GoalColor, LandmarkId, LandmarkKind, Pose2D, normalize_angle
 
 METHODS = sorted(LOCALIZERS)
@@ -133,14 +134,6 @@ def test_any_well_typed_percepts_give_a_finite_estimate_or_none(name, percepts):
 
 
 # ---- recovery from oracle percepts without noise ----------------------------------------------
-
-field_pose = st.builds(
-    Pose2D,
-    st.floats(-FIELD.half_length, FIELD.half_length),
-    st.floats(-FIELD.half_width, FIELD.half_width),
-    st.floats(-math.pi, math.pi),
-)
-
 
 @settings(max_examples=60, deadline=None)
 @given(field_pose)

@@ -73,9 +73,6 @@ class LocalizationEvent:
     percepts: tuple[LandmarkPercept, ...]
     compute_ms: tuple[float, ...] = ()
 
-    def estimate(self, method: str) -> PoseEstimate | None:
-        return dict(self.estimates)[method]
-
 
 class ScanLocalizeAgent:
     """A policy (``act(observation) -> action``) running the cycle with several localizers.

@@ -104,11 +104,15 @@ class CircleSighting:
     accepted: bool
 
 
+def _midpoint(line: ClassifiedLine, index: int) -> tuple[float, float]:
+    """The line's midpoint ``index`` (clipped to the line), as (u, v) floats."""
+    i = min(max(index, 0), len(line.u) - 1)
+    return float(line.u[i]), float(line.v[i])
+
+
 def _near_point(line: ClassifiedLine, at_end: bool) -> tuple[float, float]:
     """The midpoint of ``line`` TANGENT_COLUMNS from its end (``at_end``) or its start, or its other end if shorter."""
-    k = min(TANGENT_COLUMNS, len(line.u) - 1)
-    i = len(line.u) - 1 - k if at_end else k
-    return float(line.u[i]), float(line.v[i])
+    return _midpoint(line, len(line.u) - 1 - TANGENT_COLUMNS if at_end else TANGENT_COLUMNS)
 
 
 def _crossing(l1: ClassifiedLine, l2: ClassifiedLine, near: tuple[float, float]) -> tuple[float, float]:
@@ -180,12 +184,8 @@ def line_corner(line: ClassifiedLine) -> CornerSighting | None:
     rise = min(sign * (line.v[0] - line.v[k]), sign * (line.v[-1] - line.v[k]))
     if rise < LINE_CORNER_MIN_RISE_PX:
         return None
-    vertex = (float(line.u[k]), float(line.v[k]))
-    near = (
-        (float(line.u[max(0, k - TANGENT_COLUMNS)]), float(line.v[max(0, k - TANGENT_COLUMNS)])),
-        (float(line.u[min(len(line.u) - 1, k + TANGENT_COLUMNS)]), float(line.v[min(len(line.u) - 1, k + TANGENT_COLUMNS)])),
-    )
-    return CornerSighting(vertex, CornerShape.UP if up else CornerShape.DOWN, (line.start, line.end), near)
+    near = (_midpoint(line, k - TANGENT_COLUMNS), _midpoint(line, k + TANGENT_COLUMNS))
+    return CornerSighting(_midpoint(line, k), CornerShape.UP if up else CornerShape.DOWN, (line.start, line.end), near)
 
 
 def detect_corners_and_junctions(
