@@ -101,7 +101,7 @@ class MatchSummary:
                 "half_seconds": config.referee.half_seconds,
                 "shootout": config.referee.shootout,
             },
-            "versions": _versions(),
+            "versions": package_versions(),
         }
 
 
@@ -224,7 +224,8 @@ def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRe
     )
 
 
-def _versions() -> dict:
+def package_versions() -> dict:
+    """Versions of Python and of the packages a result depends on (for summaries)."""
     versions = {"python": platform.python_version()}
     for package in ("robotstadium", "pybullet", "numpy", "pettingzoo", "gymnasium"):
         try:

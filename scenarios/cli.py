@@ -24,6 +24,7 @@ from world.errors import WorldError
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130  # Ctrl-C, as shells report it
 
 Handler = Callable[[argparse.Namespace], int]
 
@@ -291,6 +292,61 @@ def _add_localize(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=handler)
 
 
+def _add_scenario(subparsers: argparse._SubParsersAction) -> None:
+    parser = _add_subparser(
+        subparsers,
+        "scenario",
+        help="thesis chapter 6: run scenarios 1-3 (or a scenario file) and write their localization statistics",
+        description="Run a scenario's independent runs (built-in 1, 2, 3, 'all', or a path to a TOML scenario "
+        "file) and write results.csv, summary.json, table.md (thesis Tables 6.1/6.2 with the thesis' values), "
+        "errors.png (thesis figure 6.15) and traces.png into --out. Every method of the scenario localizes on the "
+        "same percepts and motions. Finished runs are kept in --out/runs; --resume continues an interrupted batch.",
+    )
+    parser.add_argument("scenarios", nargs="+", metavar="SCENARIO", help="1, 2, 3, all, or a scenario file")
+    parser.add_argument("--samples", type=positive_int, default=None, metavar="N",
+                        help="localization events per method (default: the scenario file's)")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the runs (default: the scenario file's)")
+
+    def methods() -> Iterable[str]:
+        from agents.localization import LOCALIZERS
+
+        return LOCALIZERS
+
+    parser.add_argument("--methods", type=name_list(methods), default=None, metavar="M1,M2",
+                        help="localization methods, comma-separated (default: the scenario file's)")
+    parser.add_argument("--workers", type=positive_int, default=None, metavar="W",
+                        help="runs at once, in local processes or Ray CPUs (default: all cores)")
+    parser.add_argument("--out", type=Path, default=Path("out/scenarios"), metavar="DIR",
+                        help="output directory (default out/scenarios)")
+    parser.add_argument("--backend", choices=("local", "ray"), default="local",
+                        help="local processes (default) or Ray tasks (needs the ray extra)")
+    parser.add_argument("--ray-address", default=None, metavar="ADDRESS",
+                        help="Ray cluster to join (default: start a local Ray instance)")
+    parser.add_argument("--resume", action="store_true", help="keep the finished runs in --out and run the rest")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+
+    def handler(args: argparse.Namespace) -> int:
+        from scenarios.scenario_batch import BatchOptions, default_workers, run_named
+
+        options = BatchOptions(args.workers or default_workers(), args.backend, args.ray_address, args.resume,
+                               args.progress)
+        try:
+            reports = run_named(args.scenarios, args.out, options, samples=args.samples, seed=args.seed,
+                                methods=args.methods)
+        except KeyboardInterrupt:
+            print(f"robotstadium scenario: interrupted; finished runs are kept in {args.out}: "
+                  "run again with --resume to continue", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        from scenarios.scenario_report import table_markdown
+
+        print(table_markdown(reports))
+        wall = sum(r.wall_seconds for r in reports)
+        print(f"{sum(len(r.samples) for r in reports)} result rows, {wall:.0f} s wall; written to {args.out}")
+        return EXIT_OK
+
+    parser.set_defaults(handler=handler)
+
+
 SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (
     _add_world_demo,
     _add_bench,
@@ -298,6 +354,7 @@ SUBCOMMANDS: tuple[Callable[[argparse._SubParsersAction], None], ...] = (
     _add_calibrate_colors,
     _add_perception,
     _add_localize,
+    _add_scenario,
 )
 
 

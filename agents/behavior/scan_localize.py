@@ -2,15 +2,25 @@
 
 The agent decides only from its observation (:mod:`match.protocol.spaces`). It repeats:
 
-1. MOVE: one predefined motion, random (seeded) but kept on the field by its own belief:
-   when its estimate is within ``EDGE_MARGIN_M`` of the field's edge, it turns toward the
-   centre until it faces it, then walks forward. When the motion finishes
+1. MOVE: one predefined motion. The robot roams the field: it walks toward a random
+   (seeded) waypoint by its own belief, turning to face it first, and one motion in
+   ``RANDOM_MOTION_SHARE`` is a random one of :data:`RANDOM_MOTIONS` instead (thesis 6.2:
+   "an agent is let to freely choose a random motion and move in the field"). When its
+   estimate is within ``EDGE_MARGIN_M`` of the field's edge and it heads out, it turns
+   toward the centre first. When the motion finishes
    (``last_motion_sequence`` grows with ``last_motion`` being it; the stand it interrupted
    finishes first), every localizer is told its nominal displacement (``odometry``).
 2. SCAN: the head follows :class:`agents.vision.head_scan.HeadScan` with the top camera.
 3. LOCALIZE: the scan's fused percepts go to every localizer (the methods run side by side
    on the same percepts and motions, so their errors are paired), and a
    :class:`LocalizationEvent` is recorded.
+
+In a match (``game.state`` from the referee), the thesis' odometer rule applies: the
+localizers are reset to the robot's kick-off position at every kick-off (thesis 5.5), and
+at the start when no start pose is given. In READY the robot walks to that position by
+its own belief (as SPL robots must); in INITIAL, SET and FINISHED it stands. A fallen robot
+stands up first and then scans again; a motion a fall cut short still counts with the
+nominal displacement of the part played.
 
 The harness (never the agent) pairs each event with the true pose at that moment.
 """
@@ -31,8 +41,8 @@ from agents.vision.frame import CameraFrame
 from agents.vision.head_scan import HeadScan
 from agents.vision.percepts import LandmarkPercept
 from agents.vision.pipeline import VisionPipeline
-from match.protocol import MOTIONS, CameraChoice, Displacement, Motion, make_action
-from world.field import FIELD, Pose2D, normalize_angle
+from match.protocol import MOTIONS, CameraChoice, Displacement, GameState, KickOff, Motion, kickoff_pose, make_action
+from world.field import FIELD, GoalColor, Pose2D, normalize_angle
 
 LOG = logging.getLogger(__name__)
 
@@ -50,6 +60,15 @@ RANDOM_MOTIONS: tuple[Motion, ...] = (
 )
 EDGE_MARGIN_M = 0.6  # nearer the field's edge than this (by the agent's belief), turn inward
 HEADING_OUT_RAD = math.radians(60.0)  # near the edge, walk on only when facing within this of the centre
+# Ours: the thesis does not say how its robot chose motions. Pure random motions keep the
+# robot within about a square metre in 50 motions; walking to waypoints makes it roam the
+# field, as the traces of thesis figures 6.1-6.6 do.
+RANDOM_MOTION_SHARE = 0.3
+WAYPOINT_MARGIN_M = 0.5  # waypoints are drawn at least this far inside the field lines
+WAYPOINT_REACHED_M = 0.35  # by the belief; then a new waypoint is drawn
+WAYPOINT_FACING_RAD = math.radians(25.0)  # walk forward when the waypoint is within this of the heading
+KICKOFF_HEADING_RAD = math.radians(30.0)  # in READY, at the kick-off position, turn until facing within this
+_HELD_STATES = (GameState.INITIAL, GameState.SET, GameState.FINISHED)  # the referee holds robots still
 
 
 class Phase(enum.Enum):
@@ -78,15 +97,16 @@ class ScanLocalizeAgent:
     """A policy (``act(observation) -> action``) running the cycle with several localizers.
 
     ``methods``: localizer names (see :func:`agents.localization.localizer`); the first one
-    steers the motion choice. ``start``: the pose the robot is placed at (a kick-off
-    position: the thesis resets the odometer there). ``seed`` seeds the motion choice and
-    the particle filters.
+    steers the motion choice. ``start``: the pose the robot is placed at, known to it (the
+    thesis resets the odometer there); ``None``: its kick-off position, read from the first
+    observation's game-control view. ``seed`` seeds the motion choice and the particle
+    filters.
     """
 
     def __init__(
         self,
         methods: Sequence[str],
-        start: Pose2D,
+        start: Pose2D | None,
         seed: int = 0,
         camera_model: str = "exact",
     ):
@@ -97,44 +117,88 @@ class ScanLocalizeAgent:
         self.localizers = {
             name: localizer(name, seed=int(s.generate_state(1)[0])) for name, s in zip(self.methods, seeds[1:])
         }
-        for loc in self.localizers.values():
-            loc.reset(start)
         self.rng = np.random.default_rng(seeds[0])
         self.pipeline = VisionPipeline(camera_model)
-        self.belief = start
+        self.belief = start if start is not None else Pose2D(0.0, 0.0, 0.0)
+        if start is not None:
+            self._reset_localizers(start)
+        self.waypoint = self._draw_waypoint()
         self.events: list[LocalizationEvent] = []
         self.phase = Phase.MOVE
         self.step = 0
         self._motion: Motion | None = None
         self._sequence: int | None = None
         self._scan: HeadScan | None = None
+        self._needs_start = start is None
+        self._state: GameState | None = None
 
     def act(self, observation: dict) -> dict:
         self.step += 1
         sequence = int(observation["last_motion_sequence"])
         if self._sequence is None:
             self._sequence = sequence
+        state = GameState(int(observation["game"]["state"]))
+        if self._needs_start or (self._state is GameState.SET and state is GameState.PLAYING):
+            self._needs_start = False
+            self._reset_localizers(self._kickoff_pose(observation["game"]))  # thesis 5.5: reset at kick-off
+        self._state = state
+        self._take_finished_motion(observation, sequence)
+        if int(observation["fallen"]) or self._standing_up(observation):
+            return self._stand_up(observation)
         if self.phase is Phase.MOVE:
-            return self._move(observation, sequence)
+            return self._move(observation, sequence, state)
         return self._scan_step(observation)
 
     # ---- phases --------------------------------------------------------------------------
 
-    def _move(self, observation: dict, sequence: int) -> dict:
-        finished = int(observation["last_motion"]) == MOTIONS.index(self._motion) if self._motion else False
-        if self._motion is not None and sequence != self._sequence and finished:
-            self._sequence = sequence
-            forward, left, turn = (float(v) for v in np.asarray(observation["odometry"], float))
-            for loc in self.localizers.values():
-                loc.move(Displacement(forward, left, turn))
+    def _take_finished_motion(self, observation: dict, sequence: int) -> None:
+        """Feed the chosen motion's nominal displacement to every localizer once it finished, then scan.
+
+        A motion cut short (a fall) finishes too, with the displacement of the part played.
+        """
+        if self._motion is None or sequence == self._sequence:
+            return
+        if int(observation["last_motion"]) != MOTIONS.index(self._motion):
+            return  # the stand it interrupted, or a stand-up, finished first
+        self._sequence = sequence
+        forward, left, turn = (float(v) for v in np.asarray(observation["odometry"], float))
+        for loc in self.localizers.values():
+            loc.move(Displacement(forward, left, turn))
+        self._motion = None
+        self._start_scan()
+
+    def _move(self, observation: dict, sequence: int, state: GameState) -> dict:
+        if state in _HELD_STATES:
             self._motion = None
-            self._scan = HeadScan(self.pipeline)
-            self.phase = Phase.SCAN
-            return self._scan_step(observation)
+            return make_action(Motion.STAND, head=(0.0, 0.3), camera=CameraChoice.OFF)
         if self._motion is None:
-            self._motion = self._choose_motion()
+            if state is GameState.READY:
+                self._motion = self._ready_motion(self._kickoff_pose(observation["game"]))
+                if self._motion is None:
+                    return make_action(Motion.STAND, head=(0.0, 0.3), camera=CameraChoice.OFF)
+            else:
+                self._motion = self._choose_motion()
             self._sequence = sequence
         return make_action(self._motion, head=(0.0, 0.3), camera=CameraChoice.OFF)  # no image needed while moving
+
+    def _standing_up(self, observation: dict) -> bool:
+        index = int(observation["motion"])
+        return 0 <= index < len(MOTIONS) and MOTIONS[index].is_stand_up
+
+    def _stand_up(self, observation: dict) -> dict:
+        """Get up; afterwards scan again (frames taken while falling are of no use)."""
+        self._motion = None
+        self._start_scan()
+        if self._standing_up(observation):
+            motion = MOTIONS[int(observation["motion"])]
+        else:  # lying on the back reads about +9.81 m/s^2 on torso x, on the front about -9.81
+            back = float(observation["accelerometer"][0]) > 0.0
+            motion = Motion.STAND_UP_FROM_BACK if back else Motion.STAND_UP_FROM_FRONT
+        return make_action(motion, head=(0.0, 0.0), camera=CameraChoice.OFF)
+
+    def _start_scan(self) -> None:
+        self._scan = HeadScan(self.pipeline)
+        self.phase = Phase.SCAN
 
     def _scan_step(self, observation: dict) -> dict:
         scan = self._scan
@@ -144,7 +208,7 @@ class ScanLocalizeAgent:
         if scan.done:
             self._localize(scan.result().percepts)
             self.phase = Phase.MOVE
-            return self._move(observation, int(observation["last_motion_sequence"]))
+            return self._move(observation, int(observation["last_motion_sequence"]), self._state or GameState.PLAYING)
         target = scan.target
         return make_action(Motion.STAND, head=(target.yaw_rad, target.pitch_rad), camera=CameraChoice.TOP)
 
@@ -162,14 +226,53 @@ class ScanLocalizeAgent:
         LOG.debug("localization %d: %d percepts, %s", len(self.events) - 1, len(percepts), estimates)
 
     def _choose_motion(self) -> Motion:
-        """A random motion, or a turn toward the centre when the belief is near the edge heading out."""
+        """Turn inward when heading out near the edge; else a random motion or a step toward the waypoint."""
         b = self.belief
         near_x = abs(b.x) > FIELD.half_length - EDGE_MARGIN_M
         near_y = abs(b.y) > FIELD.half_width - EDGE_MARGIN_M
         if near_x or near_y:
-            inward = math.atan2(-b.y, -b.x)
-            off = normalize_angle(inward - b.theta)
+            off = normalize_angle(math.atan2(-b.y, -b.x) - b.theta)
             if abs(off) > HEADING_OUT_RAD:
                 return Motion.TURN_LEFT_60 if off > 0 else Motion.TURN_RIGHT_60
+        if self.rng.random() < RANDOM_MOTION_SHARE:
+            return RANDOM_MOTIONS[int(self.rng.integers(len(RANDOM_MOTIONS)))]
+        if math.hypot(self.waypoint[0] - b.x, self.waypoint[1] - b.y) < WAYPOINT_REACHED_M:
+            self.waypoint = self._draw_waypoint()
+        off = normalize_angle(math.atan2(self.waypoint[1] - b.y, self.waypoint[0] - b.x) - b.theta)
+        if abs(off) <= WAYPOINT_FACING_RAD:
             return Motion.FORWARD
-        return RANDOM_MOTIONS[int(self.rng.integers(len(RANDOM_MOTIONS)))]
+        if abs(off) > math.radians(50.0):
+            return Motion.TURN_LEFT_60 if off > 0 else Motion.TURN_RIGHT_60
+        return Motion.TURN_LEFT_40 if off > 0 else Motion.TURN_RIGHT_40
+
+    def _ready_motion(self, target: Pose2D) -> Motion | None:
+        """In READY: a step toward the kick-off position by the belief, a turn to its heading, or None there."""
+        b = self.belief
+        if math.hypot(target.x - b.x, target.y - b.y) >= WAYPOINT_REACHED_M:
+            off = normalize_angle(math.atan2(target.y - b.y, target.x - b.x) - b.theta)
+            if abs(off) <= WAYPOINT_FACING_RAD:
+                return Motion.FORWARD
+        else:
+            off = normalize_angle(target.theta - b.theta)
+            if abs(off) <= KICKOFF_HEADING_RAD:
+                return None
+        if abs(off) > math.radians(50.0):
+            return Motion.TURN_LEFT_60 if off > 0 else Motion.TURN_RIGHT_60
+        return Motion.TURN_LEFT_40 if off > 0 else Motion.TURN_RIGHT_40
+
+    def _reset_localizers(self, pose: Pose2D) -> None:
+        for loc in self.localizers.values():
+            loc.reset(pose)
+        self.belief = pose
+
+    @staticmethod
+    def _kickoff_pose(game: dict) -> Pose2D:
+        """This robot's kick-off position from the game-control view of its observation."""
+        defended = GoalColor.BLUE if int(game["defended_goal"]) == 0 else GoalColor.YELLOW
+        return kickoff_pose(int(game["player"]), int(game["kickoff"]) == int(KickOff.OWN_TEAM), defended)
+
+    def _draw_waypoint(self) -> tuple[float, float]:
+        """A uniform point on the field, ``WAYPOINT_MARGIN_M`` inside its lines (m, field frame)."""
+        x = self.rng.uniform(-FIELD.half_length + WAYPOINT_MARGIN_M, FIELD.half_length - WAYPOINT_MARGIN_M)
+        y = self.rng.uniform(-FIELD.half_width + WAYPOINT_MARGIN_M, FIELD.half_width - WAYPOINT_MARGIN_M)
+        return (float(x), float(y))

@@ -1,0 +1,310 @@
+"""Scenario files: the TOML format of thesis chapter 6's scenarios and its strict loader.
+
+A scenario file names the robots, which of them are measured, the localization methods
+and how many samples to take. ``scenario_1.toml`` .. ``scenario_3.toml`` next to this
+module are the built-in scenarios and, commented, the format's documentation.
+:func:`load_scenario` reads a built-in name or a path; :func:`parse_scenario` validates
+already-parsed data. Every mistake is a :class:`ScenarioFileError` naming the file, the
+key, what was expected and what was found; unknown keys are mistakes too.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import tomllib
+from pathlib import Path
+from typing import NoReturn
+
+from agents.localization import LOCALIZERS
+from agents.vision.camera_models import CAMERA_MODELS
+from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
+from scenarios.scenario_spec import Policy, RobotEntry, ScenarioSpec, ThesisReference
+from world.field import FIELD, Pose2D
+
+log = logging.getLogger(__name__)
+
+BUILTIN_SCENARIOS: tuple[str, ...] = ("1", "2", "3")
+
+_TOP_KEYS = (
+    "name",
+    "description",
+    "samples",
+    "runs",
+    "seed",
+    "methods",
+    "camera_model",
+    "referee",
+    "match",
+    "noise",
+    "limits",
+    "thesis",
+    "robots",
+)
+_MATCH_KEYS = ("half_seconds",)
+_NOISE_KEYS = ("motion_scale",)
+_LIMITS_KEYS = ("max_sim_seconds_per_run",)
+_THESIS_KEYS = ("position_mean_cm", "position_ci95_cm", "orientation_mean_deg", "orientation_ci95_deg")
+_ROBOT_KEYS = ("id", "policy", "measured", "start")
+_SEED_LIMIT = 2**63
+_ID_TEXT = f"an agent id: home_0..home_{MAX_PLAYERS_PER_TEAM - 1} or away_0..away_{MAX_PLAYERS_PER_TEAM - 1}"
+
+
+class ScenarioFileError(ValueError):
+    """A scenario file that cannot be used: ``"{path}: {key}: expected {expected}, got {got!r}"``."""
+
+    def __init__(self, path: str | Path, key: str, expected: str, got: object) -> None:
+        super().__init__(f"{path}: {key}: expected {expected}, got {got!r}")
+        self.path = path
+        self.key = key
+        self.expected = expected
+        self.got = got
+
+    def __reduce__(self):
+        return type(self), (self.path, self.key, self.expected, self.got)
+
+
+class _Missing:
+    """Stands for a key the file does not give."""
+
+    def __repr__(self) -> str:
+        return "nothing (the key is missing)"
+
+
+_MISSING = _Missing()
+
+
+def builtin_path(name: str) -> Path:
+    """The file of the built-in scenario ``name`` (one of :data:`BUILTIN_SCENARIOS`)."""
+    if name not in BUILTIN_SCENARIOS:
+        raise ValueError(f"built-in scenario {name!r} is not one of {', '.join(BUILTIN_SCENARIOS)}")
+    return Path(__file__).parent / f"scenario_{name}.toml"
+
+
+def load_scenario(name_or_path: str | Path) -> ScenarioSpec:
+    """The scenario of a built-in name (``"1"``, ``"2"``, ``"3"``) or of a TOML file's path."""
+    if isinstance(name_or_path, str) and name_or_path in BUILTIN_SCENARIOS:
+        path = builtin_path(name_or_path)
+    else:
+        path = Path(name_or_path)
+    expected_file = f"an existing scenario file or one of {', '.join(BUILTIN_SCENARIOS)}"
+    if not path.is_file():
+        raise ScenarioFileError(path, "<file>", expected_file, str(name_or_path))
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except OSError as exc:
+        raise ScenarioFileError(path, "<file>", expected_file, str(exc)) from exc
+    except UnicodeDecodeError as exc:
+        raise ScenarioFileError(path, "<syntax>", "a UTF-8 text file", str(exc)) from exc
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from exc
+    spec = parse_scenario(data, str(path))
+    log.info(
+        "scenario %r from %s: %d samples over %d runs, measured %s",
+        spec.name,
+        path,
+        spec.samples,
+        spec.runs,
+        ", ".join(spec.measured),
+    )
+    return spec
+
+
+def parse_scenario(data: dict, path: str) -> ScenarioSpec:
+    """The scenario of a parsed file's ``data``; :class:`ScenarioFileError` for any mistake.
+
+    ``path`` only names the file in the messages.
+    """
+    if not isinstance(data, dict):
+        raise ScenarioFileError(path, "<file>", "a table of keys", data)
+    top = _Table(data, "", path, "the top level", _TOP_KEYS)
+    name = top.string("name", nonempty=True)
+    description = top.string("description", default="")
+    samples = top.integer("samples", low=1)
+    runs = top.integer("runs", default=1, low=1, high=samples, high_text="samples")
+    seed = top.integer("seed", default=0, low=0, high=_SEED_LIMIT - 1)
+    methods = _methods(top)
+    camera_model = top.string("camera_model", default="exact", choices=tuple(CAMERA_MODELS))
+    referee = top.boolean("referee", default=False)
+    half_seconds = top.table("match", _MATCH_KEYS).number("half_seconds", default=600.0, positive=True)
+    motion_scale = top.table("noise", _NOISE_KEYS).number("motion_scale", default=1.0)
+    limit = top.table("limits", _LIMITS_KEYS).number("max_sim_seconds_per_run", default=1200.0, positive=True)
+    thesis = _thesis(top)
+    robots = _robots(top, referee)
+    return ScenarioSpec(
+        name,
+        description,
+        samples,
+        runs,
+        seed,
+        methods,
+        camera_model,
+        referee,
+        robots,
+        half_seconds,
+        motion_scale,
+        limit,
+        thesis,
+    )
+
+
+class _Table:
+    """One table of the file, its keys checked against ``allowed``; typed getters that raise on mistakes.
+
+    ``prefix`` is put before a key in messages (``"noise."``, ``"robots[1]."``).
+    """
+
+    def __init__(self, data: dict, prefix: str, path: str, title: str, allowed: tuple[str, ...]) -> None:
+        self.data, self.prefix, self.path = data, prefix, path
+        for key, value in data.items():
+            if key not in allowed:
+                self.fail(key, f"a known key ({title} allows only {', '.join(allowed)})", value)
+
+    def fail(self, key: str, expected: str, got: object) -> NoReturn:
+        raise ScenarioFileError(self.path, f"{self.prefix}{key}", expected, got)
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def get(self, key: str, default: object = _MISSING) -> object:
+        return self.data.get(key, default)
+
+    def string(self, key: str, default: object = _MISSING, nonempty: bool = False, choices: tuple[str, ...] = ()) -> str:
+        """A string; non-empty if asked; one of ``choices`` if given."""
+        value = self.get(key, default)
+        if choices:
+            expected = f"one of {', '.join(repr(c) for c in choices)}"
+            if not isinstance(value, str) or value not in choices:
+                self.fail(key, expected, value)
+        elif not isinstance(value, str) or (nonempty and not value.strip()):
+            self.fail(key, "a non-empty string" if nonempty else "a string", value)
+        return value
+
+    def integer(self, key: str, default: object = _MISSING, low: int = 0, high: int | None = None, high_text: str = "") -> int:
+        """An integer (not a bool, not a float) in ``[low, high]``."""
+        value = self.get(key, default)
+        if high is None:
+            expected = f"an integer >= {low}"
+        else:
+            expected = f"an integer in [{low}, {high}]" + (f" (at most {high_text})" if high_text else "")
+        if not _is_int(value) or value < low or (high is not None and value > high):
+            self.fail(key, expected, value)
+        return value
+
+    def number(self, key: str, default: object = _MISSING, positive: bool = False) -> float:
+        """A finite number (int or float, not bool) ``>= 0``, or ``> 0`` if ``positive``."""
+        value = self.get(key, default)
+        if not _is_number(value) or value < 0 or (positive and value == 0):
+            self.fail(key, f"a finite number {'> 0' if positive else '>= 0'}", value)
+        return float(value)
+
+    def boolean(self, key: str, default: object = _MISSING) -> bool:
+        value = self.get(key, default)
+        if not isinstance(value, bool):
+            self.fail(key, "true or false", value)
+        return value
+
+    def table(self, key: str, allowed: tuple[str, ...]) -> _Table:
+        """The sub-table ``[key]`` (empty when absent), its keys checked against ``allowed``."""
+        value = self.get(key, {})
+        if not isinstance(value, dict):
+            self.fail(key, f"a table [{key}]", value)
+        return _Table(value, f"{self.prefix}{key}.", self.path, f"[{key}]", allowed)
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _methods(top: _Table) -> tuple[str, ...]:
+    """``methods``: distinct names of :data:`agents.localization.LOCALIZERS`, all of them by default."""
+    allowed = ", ".join(LOCALIZERS)
+    value = top.get("methods", list(LOCALIZERS))
+    if not isinstance(value, list) or not value:
+        top.fail("methods", f"a non-empty array of method names from {allowed}", value)
+    for i, method in enumerate(value):
+        if not isinstance(method, str) or method not in LOCALIZERS:
+            top.fail(f"methods[{i}]", f"one of {allowed}", method)
+        if method in value[:i]:
+            top.fail(f"methods[{i}]", "a method not listed before", method)
+    return tuple(value)
+
+
+def _thesis(top: _Table) -> ThesisReference | None:
+    """The optional ``[thesis]`` row: all four figures, numbers >= 0."""
+    if not top.has("thesis"):
+        return None
+    table = top.table("thesis", _THESIS_KEYS)
+    return ThesisReference(*(table.number(key) for key in _THESIS_KEYS))
+
+
+def _robots(top: _Table, referee: bool) -> tuple[RobotEntry, ...]:
+    """``[[robots]]`` in file order, each checked, then the checks across robots."""
+    value = top.get("robots")
+    if not isinstance(value, list) or not value or not all(isinstance(r, dict) for r in value):
+        top.fail("robots", "a non-empty array of tables [[robots]]", value)
+    robots: list[RobotEntry] = []
+    for i, data in enumerate(value):
+        robot = _robot(_Table(data, f"robots[{i}].", top.path, "[[robots]]", _ROBOT_KEYS), referee)
+        if any(r.id == robot.id for r in robots):
+            top.fail(f"robots[{i}].id", "a robot id not listed before", data["id"])
+        robots.append(robot)
+    ids = [r.id for r in robots]
+    if not any(r.measured for r in robots):
+        top.fail("robots", "at least one robot with measured = true", ids)
+    if referee:
+        _check_teams(top, ids)
+    return tuple(robots)
+
+
+def _robot(table: _Table, referee: bool) -> RobotEntry:
+    """One ``[[robots]]`` entry; its id in the canonical ``home_1`` spelling."""
+    raw_id = table.get("id")
+    try:
+        agent = AgentId.parse(raw_id)
+    except ValueError as exc:
+        raise ScenarioFileError(table.path, f"{table.prefix}id", _ID_TEXT, raw_id) from exc
+    policy = Policy(table.string("policy", choices=tuple(p.value for p in Policy)))
+    measured = table.boolean("measured", default=False)
+    if not referee and policy not in (Policy.SCAN_LOCALIZE, Policy.STAND):
+        table.fail("policy", "scan_localize or stand: without the referee there is no ball and no game", policy.value)
+    if measured and policy is not Policy.SCAN_LOCALIZE:
+        table.fail("measured", "measured = true only with policy = 'scan_localize'", measured)
+    start = None
+    if table.has("start"):
+        if referee:
+            table.fail("start", "no start: with the referee robots begin at their kick-off positions", table.get("start"))
+        start = _start(table)
+    return RobotEntry(str(agent), policy, measured, start)
+
+
+def _start(table: _Table) -> Pose2D | None:
+    """``start``: ``"random"`` (None) or ``[x_m, y_m, theta_deg]`` on the field."""
+    value = table.get("start")
+    if value == "random":
+        return None
+    x_max, y_max = FIELD.half_length, FIELD.half_width
+    ok = isinstance(value, list) and len(value) == 3 and all(_is_number(v) for v in value)
+    if not ok or abs(value[0]) > x_max or abs(value[1]) > y_max:
+        expected = f"'random' or [x_m, y_m, theta_deg]: three finite numbers, |x_m| <= {x_max:g}, |y_m| <= {y_max:g}"
+        table.fail("start", expected, value)
+    x, y, theta_deg = (float(v) for v in value)
+    return Pose2D(x, y, math.radians(theta_deg))
+
+
+def _check_teams(top: _Table, ids: list[str]) -> None:
+    """With the referee: both sides present, each numbered 0..n-1 without gaps (1 <= n <= 4)."""
+    for side in Side:
+        players = sorted(AgentId.parse(i).player for i in ids if AgentId.parse(i).side is side)
+        if not players or players != list(range(len(players))):
+            expected = (
+                "with the referee, both sides present and each side's players numbered 0..n-1 "
+                f"without gaps (1 <= n <= {MAX_PLAYERS_PER_TEAM})"
+            )
+            top.fail("robots", expected, ids)

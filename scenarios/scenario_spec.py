@@ -1,0 +1,103 @@
+"""What a scenario file describes (thesis chapter 6): the robots, who is measured, the methods.
+
+Plain frozen data, built by :func:`scenarios.scenario_file.load_scenario` from a TOML
+file and used by the runner (:mod:`scenarios.scenario_run`) and the report
+(:mod:`scenarios.scenario_report`). Units: metres, seconds, radians inside; the file
+gives start headings in degrees (``theta_deg``) and the thesis' figures in cm and degrees.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import hashlib
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from world.field import Pose2D
+
+
+class Policy(enum.Enum):
+    """What drives a robot of a scenario."""
+
+    SCAN_LOCALIZE = "scan_localize"  # the measured cycle: motion, five-frame scan, localization
+    SCRIPTED = "scripted"  # the built-in scripted player: keeper as player 0, ball chaser otherwise
+    STAND = "stand"  # stands still where it was placed
+
+
+@dataclass(frozen=True)
+class ThesisReference:
+    """The thesis' Table 6.1 / 6.2 row for a scenario: means and 95% half-widths."""
+
+    position_mean_cm: float
+    position_ci95_cm: float
+    orientation_mean_deg: float
+    orientation_ci95_deg: float
+
+
+@dataclass(frozen=True)
+class RobotEntry:
+    """One robot: its agent id (``home_0`` .. ``away_3``), its policy, whether it is measured.
+
+    ``start``: the pose it is placed at without a referee (a fixed pose, or ``None`` for a
+    random pose drawn from the run's seed); with a referee the kick-off positions apply.
+    """
+
+    id: str
+    policy: Policy
+    measured: bool = False
+    start: Pose2D | None = None
+
+
+@dataclass(frozen=True)
+class ScenarioSpec:
+    """A whole scenario.
+
+    ``samples``: localization events of measured robots per method, over all runs;
+    ``runs``: independent simulations the samples are split over (each with its own seed,
+    drawn from ``seed``); ``referee``: a match with the referee (kick-offs, goals, robots
+    replaced) or the bare world with no ball; ``half_seconds``: the length of a half with
+    the referee; ``motion_noise_scale``: factor on every sigma of the world's motion noise
+    (1: the default model, 0: motions land exactly); ``max_sim_seconds_per_run``: a run
+    still short of its samples after this much simulated time ends with what it has.
+    """
+
+    name: str
+    description: str
+    samples: int
+    runs: int
+    seed: int
+    methods: tuple[str, ...]
+    camera_model: str
+    referee: bool
+    robots: tuple[RobotEntry, ...]
+    half_seconds: float = 600.0
+    motion_noise_scale: float = 1.0
+    max_sim_seconds_per_run: float = 1200.0
+    thesis: ThesisReference | None = None
+
+    @property
+    def measured(self) -> tuple[str, ...]:
+        return tuple(r.id for r in self.robots if r.measured)
+
+    def run_samples(self) -> tuple[int, ...]:
+        """Samples per run: ``samples`` split as evenly as possible, earlier runs taking the rest."""
+        base, extra = divmod(self.samples, self.runs)
+        return tuple(base + (1 if run < extra else 0) for run in range(self.runs))
+
+    def run_seeds(self) -> tuple[int, ...]:
+        """One seed per run, drawn from ``seed``: a run's seed does not depend on how many run at once."""
+        return tuple(int(s.generate_state(1)[0]) for s in np.random.SeedSequence(self.seed).spawn(self.runs))
+
+    def fingerprint(self) -> str:
+        """A hash of everything that changes the results (for ``--resume``): sha256 hex, 16 digits."""
+        text = json.dumps(dataclasses.asdict(self), sort_keys=True, default=_plain)
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def _plain(value: object) -> object:
+    if isinstance(value, enum.Enum):
+        return value.value
+    raise TypeError(f"cannot serialize {value!r}")
