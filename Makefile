@@ -2,15 +2,15 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install test match bench perception clean distclean
+.PHONY: install test match bench perception scenarios clean distclean
 
 install: $(STAMP)
 
 # Creates the virtualenv if it is missing; re-installs whenever pyproject.toml changes.
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml Makefile
 	test -x $(PY) || python3 -m venv $(VENV)
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e '.[test]'
+	$(PY) -m pip install -e '.[test,ray]'
 	touch $@
 
 test: install
@@ -24,6 +24,9 @@ bench: install
 
 perception: install
 	$(VENV)/bin/robotstadium perception --frames 1000 --seed 0 --out out/perception
+
+scenarios: install
+	$(VENV)/bin/robotstadium scenario all --out out/scenarios
 
 clean:
 	rm -rf out build .pytest_cache .hypothesis .import_linter_cache *.egg-info

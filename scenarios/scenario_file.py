@@ -43,7 +43,7 @@ _TOP_KEYS = (
 )
 _MATCH_KEYS = ("half_seconds",)
 _NOISE_KEYS = ("motion_scale",)
-_LIMITS_KEYS = ("max_sim_seconds_per_run",)
+_LIMITS_KEYS = ("max_sim_seconds_per_run", "warmup_seconds")
 _THESIS_KEYS = ("position_mean_cm", "position_ci95_cm", "orientation_mean_deg", "orientation_ci95_deg")
 _ROBOT_KEYS = ("id", "policy", "measured", "start")
 _SEED_LIMIT = 2**63
@@ -130,7 +130,11 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
     referee = top.boolean("referee", default=False)
     half_seconds = top.table("match", _MATCH_KEYS).number("half_seconds", default=600.0, positive=True)
     motion_scale = top.table("noise", _NOISE_KEYS).number("motion_scale", default=1.0)
-    limit = top.table("limits", _LIMITS_KEYS).number("max_sim_seconds_per_run", default=1200.0, positive=True)
+    limits = top.table("limits", _LIMITS_KEYS)
+    limit = limits.number("max_sim_seconds_per_run", default=1200.0, positive=True)
+    warmup = limits.number("warmup_seconds", default=0.0)
+    if warmup >= limit:
+        limits.fail("warmup_seconds", f"a number of seconds below max_sim_seconds_per_run ({limit:g})", warmup)
     thesis = _thesis(top)
     robots = _robots(top, referee)
     return ScenarioSpec(
@@ -147,6 +151,7 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
         motion_scale,
         limit,
         thesis,
+        warmup,
     )
 
 

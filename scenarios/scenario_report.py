@@ -77,6 +77,8 @@ class MethodStatistics:
     ``samples``: samples with an estimate (the n of the means and intervals);
     ``missing``: samples of the method without an estimate, left out of everything else.
     ``*_ci95_*``: half-width of the Student t 95% interval of the mean, NaN when n < 2.
+    ``localize_ms_median``: median wall time of the method's ``localize`` per scan (ms), a
+    figure of the machine that ran it, not of the scenario.
     """
 
     samples: int
@@ -87,6 +89,7 @@ class MethodStatistics:
     orientation_mean_deg: float
     orientation_ci95_deg: float
     orientation_median_deg: float
+    localize_ms_median: float = math.nan
 
     def to_json(self) -> dict[str, float | int | None]:
         """The statistics as a JSON-ready dict, NaN as ``None``."""
@@ -99,6 +102,7 @@ class MethodStatistics:
             "missing",
             "position_median_cm",
             "orientation_median_deg",
+            "localize_ms_median",
         )
         return {key: _json_number(getattr(self, key)) for key in keys}
 
@@ -134,6 +138,7 @@ def _statistics(rows: Sequence[LocalizationSample]) -> MethodStatistics:
         orientation_mean_deg=_mean(ori),
         orientation_ci95_deg=ci95_half_width(ori),
         orientation_median_deg=_median(ori),
+        localize_ms_median=_median(np.array([s.compute_ms for s in rows if math.isfinite(s.compute_ms)])),
     )
 
 
@@ -432,9 +437,8 @@ def _trace_panel(ax: Axes, rows: Sequence[LocalizationSample], colors: dict[str,
 
 
 def _panels(samples: Sequence[LocalizationSample]) -> list[tuple[int, str]]:
-    """(run, robot) pairs in run order, robots in order of first appearance."""
-    pairs = list(dict.fromkeys((s.run, s.robot) for s in samples))
-    return sorted(pairs, key=lambda p: p[0])  # stable: keeps the robot order within a run
+    """(run, robot) pairs, by run and then robot id."""
+    return sorted({(s.run, s.robot) for s in samples})
 
 
 def plot_traces(path: Path, report: ScenarioReport, max_panels: int = 6) -> Path:

@@ -226,6 +226,8 @@ class _Collector:
         while self.seen[robot] < len(agent.events) and not self.done:
             event = agent.events[self.seen[robot]]
             self.seen[robot] += 1
+            if time_s < self.task.spec.warmup_seconds:
+                continue
             self.events += 1
             self.samples.extend(event_samples(event, truth, self.task.run, robot, time_s))
             if self.on_sample is not None:

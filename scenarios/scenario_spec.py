@@ -61,7 +61,10 @@ class ScenarioSpec:
     replaced) or the bare world with no ball; ``half_seconds``: the length of a half with
     the referee; ``motion_noise_scale``: factor on every sigma of the world's motion noise
     (1: the default model, 0: motions land exactly); ``max_sim_seconds_per_run``: a run
-    still short of its samples after this much simulated time ends with what it has.
+    still short of its samples after this much simulated time ends with what it has;
+    ``warmup_seconds``: localization events in a run's first seconds of simulated time are
+    not samples (with the referee, the game has developed by then; the localizers run
+    throughout).
     """
 
     name: str
@@ -77,6 +80,7 @@ class ScenarioSpec:
     motion_noise_scale: float = 1.0
     max_sim_seconds_per_run: float = 1200.0
     thesis: ThesisReference | None = None
+    warmup_seconds: float = 0.0
 
     @property
     def measured(self) -> tuple[str, ...]:

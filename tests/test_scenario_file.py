@@ -46,7 +46,7 @@ def doc(top: str = "samples = 10", tables: str = "", robots: str = SOLO) -> str:
 BUILTIN_EXPECTED = {
     "1": (5, False, ("home_1",), 1, (12.39, 2.83, 3.53, 2.86)),
     "2": (5, True, ("home_1",), 5, (27.83, 9.62, 16.32, 4.53)),
-    "3": (5, True, ("home_1", "home_2", "home_3"), 8, (43.09, 12.69, 22.91, 11.20)),
+    "3": (2, True, ("home_1", "home_2", "home_3"), 8, (43.09, 12.69, 22.91, 11.20)),
 }
 
 
@@ -112,6 +112,13 @@ MALFORMED = [
     ("bad camera model", doc('samples = 10\ncamera_model = "fisheye"'), "camera_model", "got 'fisheye'"),
     ("nan half_seconds", doc(tables="[match]\nhalf_seconds = nan"), "match.half_seconds", "got nan"),
     ("negative motion_scale", doc(tables="[noise]\nmotion_scale = -0.5"), "noise.motion_scale", "got -0.5"),
+    ("negative warmup", doc(tables="[limits]\nwarmup_seconds = -1"), "limits.warmup_seconds", "got -1"),
+    (
+        "warmup beyond the run",
+        doc(tables="[limits]\nmax_sim_seconds_per_run = 100\nwarmup_seconds = 100"),
+        "limits.warmup_seconds",
+        "got 100.0",
+    ),
     ("bad robot id", doc(robots=robot("home_7", measured=True)), "robots[0].id", "got 'home_7'"),
     ("duplicate robot id", doc(robots=SOLO + robot("home_1")), "robots[1].id", "got 'home_1'"),
     ("unknown policy", doc(robots=robot("home_1", "dance", measured=True)), "robots[0].policy", "got 'dance'"),

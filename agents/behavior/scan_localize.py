@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from agents.localization import PoseEstimate, localizer
+from agents.localization.estimate import SOURCE_ODOMETER
 from agents.vision.frame import CameraFrame
 from agents.vision.head_scan import HeadScan
 from agents.vision.percepts import LandmarkPercept
@@ -71,6 +72,9 @@ KICKOFF_HEADING_RAD = math.radians(30.0)  # in READY, at the kick-off position, 
 _HELD_STATES = (GameState.INITIAL, GameState.SET, GameState.FINISHED)  # the referee holds robots still
 
 
+NO_PERCEPTS = "no usable percepts in the scan"  # the reason of an estimate kept from before the scan
+
+
 class Phase(enum.Enum):
     MOVE = "move"
     SCAN = "scan"
@@ -81,8 +85,9 @@ class LocalizationEvent:
     """One localization after a scan: what every method estimated, from the same percepts.
 
     ``index``: the event's number (0, 1, ...); ``step``: the agent's control step count;
-    ``estimates``: (method name, estimate or None for "no estimate") in the order of the
-    agent's methods; ``percepts``: the fused percepts of the scan; ``compute_ms``: the
+    ``estimates``: (method name, estimate) in the order of the agent's methods; when a
+    method found nothing usable in the scan, its estimate is the pose it goes on with
+    (source ``odometer``, reason :data:`NO_PERCEPTS`), None only if it has none; ``percepts``: the fused percepts of the scan; ``compute_ms``: the
     wall time each method's ``localize`` took, same order.
     """
 
@@ -215,9 +220,15 @@ class ScanLocalizeAgent:
     def _localize(self, percepts: tuple[LandmarkPercept, ...]) -> None:
         results, compute_ms = [], []
         for name in self.methods:
+            loc = self.localizers[name]
             started = time.perf_counter()
-            results.append((name, self.localizers[name].localize(percepts)))
+            estimate = loc.localize(percepts)
             compute_ms.append((time.perf_counter() - started) * 1e3)
+            if estimate is None and loc.pose is not None:
+                # Nothing usable in the scan: the robot goes on with the pose it has (thesis 5.5).
+                pose = loc.pose
+                estimate = PoseEstimate(pose.x, pose.y, pose.theta, name, SOURCE_ODOMETER, reason=NO_PERCEPTS)
+            results.append((name, estimate))
         estimates = tuple(results)
         guide = estimates[0][1]
         if guide is not None:
