@@ -69,8 +69,8 @@ WAYPOINT_MARGIN_M = 0.5  # waypoints are drawn at least this far inside the fiel
 WAYPOINT_REACHED_M = 0.35  # by the belief; then a new waypoint is drawn
 WAYPOINT_FACING_RAD = math.radians(25.0)  # walk forward when the waypoint is within this of the heading
 KICKOFF_HEADING_RAD = math.radians(30.0)  # in READY, at the kick-off position, turn until facing within this
+WIDE_TURN_RAD = math.radians(50.0)  # farther off than this, turn 60 degrees; nearer, 40
 _HELD_STATES = (GameState.INITIAL, GameState.SET, GameState.FINISHED)  # the referee holds robots still
-
 
 NO_PERCEPTS = "no usable percepts in the scan"  # the reason of an estimate kept from before the scan
 
@@ -87,8 +87,9 @@ class LocalizationEvent:
     ``index``: the event's number (0, 1, ...); ``step``: the agent's control step count;
     ``estimates``: (method name, estimate) in the order of the agent's methods; when a
     method found nothing usable in the scan, its estimate is the pose it goes on with
-    (source ``odometer``, reason :data:`NO_PERCEPTS`), None only if it has none; ``percepts``: the fused percepts of the scan; ``compute_ms``: the
-    wall time each method's ``localize`` took, same order.
+    (source ``odometer``, reason :data:`NO_PERCEPTS`), None only if it has none;
+    ``percepts``: the fused percepts of the scan; ``compute_ms``: the wall time each
+    method's ``localize`` took, same order.
     """
 
     index: int
@@ -250,11 +251,7 @@ class ScanLocalizeAgent:
         if math.hypot(self.waypoint[0] - b.x, self.waypoint[1] - b.y) < WAYPOINT_REACHED_M:
             self.waypoint = self._draw_waypoint()
         off = normalize_angle(math.atan2(self.waypoint[1] - b.y, self.waypoint[0] - b.x) - b.theta)
-        if abs(off) <= WAYPOINT_FACING_RAD:
-            return Motion.FORWARD
-        if abs(off) > math.radians(50.0):
-            return Motion.TURN_LEFT_60 if off > 0 else Motion.TURN_RIGHT_60
-        return Motion.TURN_LEFT_40 if off > 0 else Motion.TURN_RIGHT_40
+        return Motion.FORWARD if abs(off) <= WAYPOINT_FACING_RAD else _turn_toward(off)
 
     def _ready_motion(self, target: Pose2D) -> Motion | None:
         """In READY: a step toward the kick-off position by the belief, a turn to its heading, or None there."""
@@ -267,9 +264,7 @@ class ScanLocalizeAgent:
             off = normalize_angle(target.theta - b.theta)
             if abs(off) <= KICKOFF_HEADING_RAD:
                 return None
-        if abs(off) > math.radians(50.0):
-            return Motion.TURN_LEFT_60 if off > 0 else Motion.TURN_RIGHT_60
-        return Motion.TURN_LEFT_40 if off > 0 else Motion.TURN_RIGHT_40
+        return _turn_toward(off)
 
     def _reset_localizers(self, pose: Pose2D) -> None:
         for loc in self.localizers.values():
@@ -287,3 +282,10 @@ class ScanLocalizeAgent:
         x = self.rng.uniform(-FIELD.half_length + WAYPOINT_MARGIN_M, FIELD.half_length - WAYPOINT_MARGIN_M)
         y = self.rng.uniform(-FIELD.half_width + WAYPOINT_MARGIN_M, FIELD.half_width - WAYPOINT_MARGIN_M)
         return (float(x), float(y))
+
+
+def _turn_toward(off_rad: float) -> Motion:
+    """The predefined turn that brings a direction ``off_rad`` away (CCW positive) nearer the heading."""
+    if abs(off_rad) > WIDE_TURN_RAD:
+        return Motion.TURN_LEFT_60 if off_rad > 0 else Motion.TURN_RIGHT_60
+    return Motion.TURN_LEFT_40 if off_rad > 0 else Motion.TURN_RIGHT_40
