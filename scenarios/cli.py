@@ -119,6 +119,13 @@ def name_list(choices: Callable[[], Iterable[str]]) -> Callable[[str], tuple[str
     return parse
 
 
+def _localizer_names() -> Iterable[str]:
+    """The localization methods' names (loaded when an argument names them)."""
+    from agents.localization import LOCALIZERS
+
+    return LOCALIZERS
+
+
 def positive_float(text: str) -> float:
     """argparse type: a finite number > 0."""
     try:
@@ -266,15 +273,9 @@ def _add_localize(subparsers: argparse._SubParsersAction) -> None:
         "localization with each method side by side on the same percepts; each estimate is compared with "
         "the robot's true pose. Prints mean and median errors and the median localize() time per method.",
     )
-
     parser.add_argument("--samples", type=positive_int, default=50, metavar="N", help="localizations (default 50)")
     parser.add_argument("--seed", type=int, default=0, help="seed (default 0)")
-    def methods() -> Iterable[str]:
-        from agents.localization import LOCALIZERS
-
-        return LOCALIZERS
-
-    parser.add_argument("--methods", type=name_list(methods), default=("thesis", "particle", "hybrid", "odometry"),
+    parser.add_argument("--methods", type=name_list(_localizer_names), default=("thesis", "particle", "hybrid", "odometry"),
                         metavar="M1,M2", help="localization methods, comma-separated (default thesis,particle,hybrid,odometry)")
 
     def handler(args: argparse.Namespace) -> int:
@@ -306,13 +307,7 @@ def _add_scenario(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--samples", type=positive_int, default=None, metavar="N",
                         help="localization events per method (default: the scenario file's)")
     parser.add_argument("--seed", type=int, default=None, help="seed of the runs (default: the scenario file's)")
-
-    def methods() -> Iterable[str]:
-        from agents.localization import LOCALIZERS
-
-        return LOCALIZERS
-
-    parser.add_argument("--methods", type=name_list(methods), default=None, metavar="M1,M2",
+    parser.add_argument("--methods", type=name_list(_localizer_names), default=None, metavar="M1,M2",
                         help="localization methods, comma-separated (default: the scenario file's)")
     parser.add_argument("--workers", type=positive_int, default=None, metavar="W",
                         help="runs at once, in local processes or Ray CPUs (default: all cores)")

@@ -82,7 +82,7 @@ def run_alone(
     spec = ScenarioSpec("scenario 1", "", samples, 1, seed, tuple(methods), camera_model, False, (robot,))
     outcome = simulate_run(RunTask(spec, run, seed, samples))
     if not outcome.complete:
-        raise RuntimeError(f"run {run}: {len(outcome.samples) // len(methods)} of {samples} samples")
+        raise RuntimeError(f"run {run}: {outcome.events} of {samples} samples")
     return RunResult(outcome.samples, outcome.sim_seconds, outcome.wall_seconds)
 
 

@@ -71,7 +71,7 @@ def run_scenario(spec: ScenarioSpec, key: str, out_dir: Path, options: BatchOpti
     pending = [t for t in tasks if t.run not in done]
     if done:
         log.info("%s: %d of %d runs already in %s", spec.name, len(done), len(tasks), out_dir)
-    bar = tqdm(total=spec.samples, initial=sum(len(o.samples) // len(spec.methods) for o in done.values()),
+    bar = tqdm(total=spec.samples, initial=sum(o.events for o in done.values()),
                unit="sample", desc=spec.name, disable=not options.progress, dynamic_ncols=True)
     try:
         execute = _execute_ray if options.backend == "ray" else _execute_local
@@ -224,7 +224,7 @@ def _execute_ray(tasks: Sequence[RunTask], options: BatchOptions, progress: Prog
         while pending:
             finished, pending = ray.wait(pending, num_returns=1)
             outcome = ray.get(finished[0])
-            progress(len(outcome.samples) // max(1, len(tasks[0].spec.methods)))
+            progress(outcome.events)
             yield outcome
     finally:
         if started_here:

@@ -75,6 +75,11 @@ class RunOutcome:
     wall_seconds: float
     complete: bool
 
+    @property
+    def events(self) -> int:
+        """Localization events the run recorded (each gives one sample per method)."""
+        return len({(s.robot, s.event) for s in self.samples})
+
 
 class _Stand:
     """The ``stand`` policy: stand still, camera off."""
@@ -98,10 +103,11 @@ def simulate_run(task: RunTask, on_sample: SampleCallback | None = None) -> RunO
         samples, sim_seconds, complete = _run_match(task, on_sample)
     else:
         samples, sim_seconds, complete = _run_bare(task, on_sample)
+    outcome = RunOutcome(task.run, task.seed, tuple(samples), sim_seconds, time.perf_counter() - started, complete)
     if not complete:
-        log.warning("run %d ended with %d of %d samples after %.0f s simulated", task.run,
-                    len(samples) // max(1, len(task.spec.methods)), task.samples, sim_seconds)
-    return RunOutcome(task.run, task.seed, tuple(samples), sim_seconds, time.perf_counter() - started, complete)
+        log.warning("run %d ended with %d of %d samples after %.0f s simulated", task.run, outcome.events,
+                    task.samples, sim_seconds)
+    return outcome
 
 
 def world_config(spec: ScenarioSpec) -> WorldConfig:
