@@ -1,4 +1,4 @@
-"""The match event log: one frozen record per thing that happened."""
+"""The match event log: one frozen record per thing that happened (times in simulated s)."""
 
 from __future__ import annotations
 
@@ -23,9 +23,26 @@ class EventKind(enum.Enum):
     FAULT = "fault"  # an agent's policy failed (recorded by the runner)
 
 
+class DisallowedReason(enum.StrEnum):
+    """Why a goal was disallowed: the ``reason`` of a GOAL_DISALLOWED event."""
+
+    KICKOFF_SHOT = "kickoff_shot"  # the kick-off team scored before the ball was played again (see the referee)
+
+
+class ReplacedReason(enum.StrEnum):
+    """Why a robot was put back at the side line: the ``reason`` of a ROBOT_REPLACED event."""
+
+    OFF_CARPET = "off_carpet"
+    FALLEN = "fallen"  # down longer than the referee's fallen limit
+
+
 @dataclass(frozen=True)
 class MatchEvent:
-    """``details`` holds plain JSON values only (str, int, float, bool, lists, dicts)."""
+    """``details`` holds plain JSON values only (str, int, float, bool, lists, dicts).
+
+    A reason enum (:class:`DisallowedReason`, :class:`ReplacedReason`,
+    :class:`match.shootout.ShootoutOutcome`) goes in as its ``.value``: a plain str.
+    """
 
     time_s: float
     kind: EventKind

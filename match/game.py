@@ -3,7 +3,11 @@
 One :meth:`Match.step` is one control step (40 ms): every action is checked first (a bad
 one raises and nothing is applied), then heads, cameras, motions and radio packets are
 applied, the world steps, the referee judges, cameras are rendered for the robots whose
-camera is on, and the observations are built. :mod:`match.env` adapts it to PettingZoo.
+camera is on, and the observations are built. :mod:`match.env` adapts it to PettingZoo;
+:func:`match.runner.run_match` plays it with one policy per robot.
+
+With ``MatchConfig.free_play`` set, the same match runs without a ball in play and without
+referee decisions (:mod:`match.free_play`): the scenario runs alone on the field.
 """
 
 from __future__ import annotations
@@ -17,9 +21,10 @@ import numpy as np
 
 from match.errors import InvalidActionError, MatchError, UnknownAgentError
 from match.events import MatchEvent
+from match.free_play import FreePlay, free_play_control
 from match.observations import build_observation, game_observation, radio_observation
 from match.protocol.actions import Action, parse_action
-from match.protocol.game_control import GameControlView
+from match.protocol.game_control import GameControlView, GameState
 from match.protocol.ids import AgentId, Side, roster
 from match.protocol.spaces import CameraChoice
 from match.radio import Radio, RadioConfig
@@ -41,9 +46,18 @@ class MatchConfig:
     radio: RadioConfig = default(default_factory=RadioConfig)
     world: WorldConfig = default(default_factory=WorldConfig)
     initial_camera: CameraChoice = CameraChoice.TOP
+    free_play: FreePlay | None = None  # set: no ball in play, no referee; its starts name the robots
 
     def __post_init__(self) -> None:
-        roster(self.home_players, self.away_players)  # raises on bad team sizes
+        if self.free_play is None:
+            roster(self.home_players, self.away_players)  # raises on bad team sizes
+
+    @property
+    def agents(self) -> tuple[AgentId, ...]:
+        """The robots on the field: the free-play starts, else home_0.. and away_0.. by the team sizes."""
+        if self.free_play is not None:
+            return self.free_play.agents
+        return roster(self.home_players, self.away_players)
 
 
 @dataclass(frozen=True)
@@ -59,7 +73,7 @@ class Match:
 
     def __init__(self, config: MatchConfig | None = None, *, gui: bool = False):
         self.config = config or MatchConfig()
-        self.agents: tuple[AgentId, ...] = roster(self.config.home_players, self.config.away_players)
+        self.agents: tuple[AgentId, ...] = self.config.agents
         self.agent_names: tuple[str, ...] = tuple(str(a) for a in self.agents)
         self._by_name = dict(zip(self.agent_names, self.agents))
         specs = [RobotSpec(str(a), TeamColor.BLUE if a.side is Side.HOME else TeamColor.RED) for a in self.agents]
@@ -84,12 +98,31 @@ class Match:
         for agent in self.agents:
             if self.config.initial_camera.position is not None:
                 self.world.set_camera(str(agent), self.config.initial_camera.position)
-        self.events.extend(self.referee.start().events)
+        if self.config.free_play is None:
+            self.events.extend(self.referee.start().events)
+        else:
+            self._place_free_play(self.config.free_play)
         self._started = True
         return self.observe({a: [] for a in self.agents})
 
+    def _place_free_play(self, free_play: FreePlay) -> None:
+        for robot, pose in free_play.starts:
+            self.world.place_robot(robot, pose)
+        self.world.place_ball(*free_play.ball_xy)
+        self.world.step(free_play.settle_steps)
+
     def close(self) -> None:
         self.world.close()
+
+    @property
+    def state(self) -> GameState:
+        """The game state now (always PLAYING in free play)."""
+        return GameState.PLAYING if self.free_play else self.referee.state
+
+    @property
+    def free_play(self) -> bool:
+        """Whether this match runs in free play (no ball in play, no referee decisions)."""
+        return self.config.free_play is not None
 
     @property
     def finished(self) -> bool:
@@ -126,15 +159,18 @@ class Match:
                 self.radio.send(agent, action.radio, sent_now, self.step_index)
         self.world.step()
         self.step_index += 1
-        update = self.referee.update()
-        self.events.extend(update.events)
         rewards = {name: 0.0 for name in self.agent_names}
-        for scorer in update.goals:
-            for agent in self.agents:
-                rewards[str(agent)] += 1.0 if agent.side is scorer else -1.0
+        events: tuple[MatchEvent, ...] = ()
+        if not self.free_play:
+            update = self.referee.update()
+            events = update.events
+            self.events.extend(events)
+            for scorer in update.goals:
+                for agent in self.agents:
+                    rewards[str(agent)] += 1.0 if agent.side is scorer else -1.0
         positions = self._positions() if self.config.radio.range_m is not None else None
         inboxes = self.radio.deliver(self.step_index, positions)
-        return StepResult(self.observe(inboxes), rewards, update.events, self.finished)
+        return StepResult(self.observe(inboxes), rewards, events, self.finished)
 
     def _apply(self, agent: AgentId, action: Action) -> None:
         robot = str(agent)
@@ -145,7 +181,7 @@ class Match:
             if action.camera.position is not None:
                 self.world.set_camera(robot, action.camera.position)
         motion = action.motion
-        if self.referee.holds(agent) and not motion.is_stand_up:
+        if not self.free_play and self.referee.holds(agent) and not motion.is_stand_up:
             motion = Motion.STAND
         if motion is Motion.WALK:
             self.world.command_walk(robot, *action.walk)
@@ -156,7 +192,7 @@ class Match:
 
     def observe(self, inboxes: Mapping[AgentId, list]) -> dict[str, dict]:
         readings = self.world.sensors_all(self.agent_names)
-        broadcast = self.referee.broadcast
+        broadcast = free_play_control(self.world.time_s) if self.free_play else self.referee.broadcast
         views: dict[Side, GameControlView] = {side: broadcast.view_for(side) for side in Side}
         observations = {}
         for agent in self.agents:

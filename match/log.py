@@ -41,7 +41,7 @@ class MatchLog:
             if estimates and estimates.get(agent) is not None:
                 guesses[i] = estimates[agent]
         self._time.append(truth["time_s"])
-        self._state.append(int(match.referee.state))
+        self._state.append(int(match.state))
         self._half.append(match.referee.half)
         self._ball.append(truth["ball"]["position"])
         self._robots.append(robots)

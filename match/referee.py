@@ -3,7 +3,9 @@
 It never renders and never reads a wall clock: every timing is simulated time read from the
 pitch after each control step. It reads the ball (position, last toucher) and the robots'
 true poses, and it places robots and the ball as a human referee would. The rules it
-applies are in :mod:`match.rules`; their facts are in DESIGN.md section 4.
+applies are in :mod:`match.rules`; their facts are in docs/design.md section 4. In a penalty
+shoot-out, :class:`match.shootout.PenaltyShootout` decides who kicks, where everyone stands
+and how each kick ends; the referee changes the states, places things and logs the events.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from match.errors import MatchConfigError
-from match.events import EventKind, MatchEvent
+from match.events import DisallowedReason, EventKind, MatchEvent, ReplacedReason
 from match.protocol.game_control import GameControlData, GameState, SecondaryState
 from match.protocol.ids import AgentId, Side
 from match.protocol.kickoff import kickoff_pose
@@ -29,18 +31,12 @@ from match.rules import (
     sideline_pose,
     throw_in_spot,
 )
-from match.shootout import ShootoutKick, ShootoutTally
+from match.shootout import PenaltyShootout, ShootoutTally
 from world.ball import BallState
 from world.field import FIELD, GoalColor, Pose2D
 from world.teams import TeamColor
 
 log = logging.getLogger(__name__)
-
-SHOOTOUT_GOAL = GoalColor.YELLOW  # every shoot-out kick is taken at this goal
-SHOOTOUT_KICKER_BEHIND_BALL_M = 0.22
-GOALKEEPER_LINE_X_M = 2.85  # |x| of a goalkeeper placed on its goal line
-BALL_AT_REST_MPS = 0.02
-OFF_FIELD_Y_M = FIELD.carpet_half_width + 0.3  # where robots out of a shoot-out wait
 
 
 class Pitch(Protocol):
@@ -111,16 +107,6 @@ class _PendingOut:
     since_s: float
 
 
-@dataclass
-class _ShootoutAttempt:
-    side: Side
-    kicker: str
-    keeper: str | None
-    start_s: float | None = None  # PLAYING began
-    kicker_touched: bool = False
-    rest_since_s: float | None = None
-
-
 class Referee:
     """Runs a match on ``pitch`` for the robots ``agents`` (robot id = ``str(agent)``)."""
 
@@ -146,8 +132,7 @@ class Referee:
         self.seconds_remaining = self.config.half_seconds
         self.events: list[MatchEvent] = []
         self.broadcast: GameControlData | None = None
-        self.shootout: ShootoutTally | None = None
-        self._attempt: _ShootoutAttempt | None = None
+        self._shootout: PenaltyShootout | None = None
         self._entered_s = 0.0
         self._last_update_s = 0.0
         self._next_broadcast_s = 0.0
@@ -158,6 +143,11 @@ class Referee:
         self._fallen_since: dict[str, float] = {}
         self._new_events: list[MatchEvent] = []
         self._new_goals: list[Side] = []
+
+    @property
+    def shootout(self) -> ShootoutTally | None:
+        """The penalty shoot-out's tally; None until a shoot-out began."""
+        return None if self._shootout is None else self._shootout.tally
 
     def color_of(self, side: Side) -> TeamColor:
         return self.home_color if side is Side.HOME else self.home_color.other
@@ -190,8 +180,8 @@ class Referee:
         """Whether the robot must stand still now (INITIAL, SET, FINISHED, or out of a shoot-out kick)."""
         if self.state in (GameState.INITIAL, GameState.SET, GameState.FINISHED):
             return True
-        if self.secondary is SecondaryState.PENALTY_SHOOTOUT and self._attempt is not None:
-            return self._ids[agent] not in (self._attempt.kicker, self._attempt.keeper)
+        if self.secondary is SecondaryState.PENALTY_SHOOTOUT:
+            return self._shootout.holds(self._ids[agent])
         return False
 
     @property
@@ -250,7 +240,7 @@ class Referee:
 
     def _begin_play(self, now: float) -> None:
         if self.secondary is SecondaryState.PENALTY_SHOOTOUT:
-            self._attempt.start_s = now
+            self._shootout.begin(now)
             return
         self._kickoff_shot_open = True
         self._ball_left_circle = False
@@ -286,7 +276,8 @@ class Referee:
             # Kick-off-shot rule: no goal before the ball left the circle and was touched
             # again by the kick-off team (or touched by the other team). Placed as an
             # end-line out by the attacking team.
-            self._event(EventKind.GOAL_DISALLOWED, team=scorer.value, reason="kickoff_shot", last_toucher=ball.last_toucher)
+            self._event(EventKind.GOAL_DISALLOWED, team=scorer.value, reason=DisallowedReason.KICKOFF_SHOT.value,
+                        last_toucher=ball.last_toucher)
             out = BallOut(OutKind.END_LINE, ball.x, ball.y)
             self._pending_out = _PendingOut(out, self.defended_goal(scorer), now)
             return
@@ -326,7 +317,6 @@ class Referee:
 
     def _finish(self, now: float) -> None:
         self.kickoff = None
-        self._attempt = None
         winner = self._winner()
         self._event(EventKind.END, winner=winner.value if winner else None,
                     score={"home": self.score[Side.HOME], "away": self.score[Side.AWAY]},
@@ -345,80 +335,37 @@ class Referee:
     def _start_shootout(self, now: float) -> None:
         cfg = self.config
         self.secondary = SecondaryState.PENALTY_SHOOTOUT
-        self.shootout = ShootoutTally(
+        tally = ShootoutTally(
             first=self.side_of_color(cfg.first_kickoff_color),
             kicks_each=cfg.shootout_kicks,
             sudden_death=cfg.sudden_death,
             max_sudden_death_rounds=cfg.max_sudden_death_rounds,
         )
+        self._shootout = PenaltyShootout(self.agents, tally, cfg.shootout_attempt_seconds, cfg.shootout_rest_seconds)
         self._next_shootout_kick(now)
 
     def _next_shootout_kick(self, now: float) -> None:
-        side = self.shootout.next_side
-        kicker = self._shootout_kicker(side)
-        keepers = [a for a in self.agents if a.side is side.other and a.player == 0]
-        keeper = self._ids[keepers[0]] if keepers else None
-        self._attempt = _ShootoutAttempt(side=side, kicker=kicker, keeper=keeper)
-        self.kickoff = side
-        # The kicking team attacks the shoot-out goal; the keeper's team defends it.
-        self.home_defends = SHOOTOUT_GOAL.other if side is Side.HOME else SHOOTOUT_GOAL
+        """SET for the next kick: the kicking team attacks the shoot-out goal, everyone placed."""
+        attempt = self._shootout.next_kick()
+        self.kickoff = attempt.side
+        self.home_defends = attempt.home_defends
         self._enter(GameState.SET, now)
-        self._place_shootout()
-
-    def _shootout_kicker(self, side: Side) -> str:
-        """Field players take turns (the goalkeeper kicks only in a team of one)."""
-        players = [a for a in self.agents if a.side is side]
-        field_players = [a for a in players if a.player != 0] or players
-        turn = self.shootout.taken(side)
-        return self._ids[field_players[turn % len(field_players)]]
-
-    def _place_shootout(self) -> None:
-        sign = SHOOTOUT_GOAL.sign
-        attempt = self._attempt
-        facing_goal = 0.0 if sign > 0 else math.pi
-        mark_x = sign * FIELD.penalty_mark_x
-        self._place_ball(mark_x, 0.0)
-        waiting = 0
-        for agent in self.agents:
-            robot = self._ids[agent]
-            if robot == attempt.kicker:
-                pose = Pose2D(mark_x - sign * SHOOTOUT_KICKER_BEHIND_BALL_M, 0.0, facing_goal)
-            elif robot == attempt.keeper:
-                pose = Pose2D(sign * GOALKEEPER_LINE_X_M, 0.0, facing_goal + math.pi)
-            else:
-                pose = Pose2D(-2.5 + 0.6 * waiting, -OFF_FIELD_Y_M, math.pi / 2.0)
-                waiting += 1
+        placement = self._shootout.placement()
+        self._place_ball(*placement.ball)
+        for robot, pose in placement.robots:
             self.pitch.place_robot(robot, pose)
 
     def _judge_shootout_kick(self, ball: BallState, now: float) -> None:
-        attempt = self._attempt
-        if ball.last_toucher == attempt.kicker:
-            attempt.kicker_touched = True
-        goal = goal_crossed(ball.x, ball.y, ball.z)
-        reason = None
-        if goal is SHOOTOUT_GOAL:
-            reason = "goal"
-        elif goal is not None or ball_out(ball.x, ball.y, ball.z) is not None:
-            reason = "out"
-        elif now - attempt.start_s >= self.config.shootout_attempt_seconds - 1e-9:
-            reason = "time"
-        elif ball.last_toucher is not None and attempt.kicker_touched:
-            if math.hypot(ball.vx, ball.vy) < BALL_AT_REST_MPS:
-                attempt.rest_since_s = attempt.rest_since_s if attempt.rest_since_s is not None else now
-                if now - attempt.rest_since_s >= self.config.shootout_rest_seconds - 1e-9:
-                    reason = "stopped"
-            else:
-                attempt.rest_since_s = None
-        if reason is None:
+        kick = self._shootout.judge(ball, now)
+        if kick is None:
             return
-        kick = ShootoutKick(attempt.side, attempt.kicker, attempt.keeper, reason == "goal", reason)
-        self.shootout.record(kick)
+        tally = self._shootout.tally
         if kick.scored:
-            self._new_goals.append(attempt.side)
-        self._event(EventKind.SHOOTOUT_KICK, team=attempt.side.value, kicker=attempt.kicker, keeper=attempt.keeper,
-                    scored=kick.scored, reason=reason,
-                    shootout={"home": self.shootout.goals(Side.HOME), "away": self.shootout.goals(Side.AWAY)})
-        if self.shootout.is_over():
+            self._new_goals.append(kick.side)
+        self._event(EventKind.SHOOTOUT_KICK, team=kick.side.value, kicker=kick.kicker, keeper=kick.keeper,
+                    scored=kick.scored, reason=kick.reason.value,
+                    shootout={"home": tally.goals(Side.HOME), "away": tally.goals(Side.AWAY)})
+        if tally.is_over():
             self._finish(now)
         else:
             self._next_shootout_kick(now)
@@ -457,17 +404,18 @@ class Referee:
                 continue
             reason = None
             if cfg.replace_off_carpet and not FIELD.is_on_carpet(truth.pose.x, truth.pose.y):
-                reason = "off_carpet"
+                reason = ReplacedReason.OFF_CARPET
             elif cfg.fallen_limit_s is not None and robot in self._fallen_since:
                 if now - self._fallen_since[robot] >= cfg.fallen_limit_s - 1e-9:
-                    reason = "fallen"
+                    reason = ReplacedReason.FALLEN
             if reason is not None:
                 ball = self.pitch.ball()
                 others = [p for r, p in self._robot_positions_by_id().items() if r != robot]
                 pose = sideline_pose(self.defended_goal(agent.side), ball.y, others)
                 self.pitch.place_robot(robot, pose)
                 self._fallen_since.pop(robot, None)
-                self._event(EventKind.ROBOT_REPLACED, robot=robot, reason=reason, x=round(pose.x, 3), y=round(pose.y, 3))
+                self._event(EventKind.ROBOT_REPLACED, robot=robot, reason=reason.value,
+                            x=round(pose.x, 3), y=round(pose.y, 3))
 
     def _record_touch(self, ball: BallState) -> None:
         robot, when = ball.last_toucher, ball.last_touch_time_s

@@ -1,9 +1,15 @@
-"""Run a whole match headless with one policy per robot, and write what happened.
+"""The one game loop: play a :class:`~match.game.Match` with one policy per robot, and write what happened.
 
-A policy is any object with ``act(observation) -> action dict`` (and optionally
-``reset()`` and ``pose_estimate() -> (x, y, theta) | None`` for the log). A policy that
-raises, or returns an invalid action, does not end the match: its robot stands still for
-that step and the fault is recorded.
+Every run goes through :func:`run_match`: full matches, tournaments, and the scenario runs
+(refereed, or in the match's free play). Policies follow :class:`match.protocol.policy.Policy`:
+:meth:`reset` with the robot's id and a seed before the first step, then ``act(observation)``
+every control step; a :class:`~match.protocol.policy.PoseReporter` has its estimate logged
+beside the truth. A policy that raises, or returns an invalid action, does not end the
+match: its robot stands still for that step and the fault is recorded.
+
+Whoever needs to watch the run (a localization-sample collector, a logger) passes a
+:class:`MatchObserver`: it sees the match after the policies decided each step, and can end
+the run.
 
 Outputs in ``out_dir``: ``summary.json``, ``events.jsonl`` (one event per line) and
 ``match_log.npz`` (see :mod:`match.log`).
@@ -20,25 +26,34 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Protocol
 
+import numpy as np
 from tqdm import tqdm
 
 from match.events import EventKind, MatchEvent
 from match.game import Match, MatchConfig
 from match.log import MatchLog
-from match.protocol.actions import parse_action
+from match.protocol.actions import Action, parse_action
 from match.protocol.game_control import SecondaryState
 from match.protocol.ids import Side
+from match.protocol.policy import Policy, PoseReporter, PoseTuple
 
 log = logging.getLogger(__name__)
 
 FAULT_DETAILS_PER_AGENT = 20  # faults beyond this are counted, not described
 PROGRESS_EVERY_STEPS = 25
+POLICY_SEED_STREAM = 2  # Match.reset draws streams 0 (world) and 1 (radio) from the match seed
 
 
-class Policy(Protocol):
-    def act(self, observation: dict) -> Any: ...
+class MatchObserver(Protocol):
+    """Watches a run step by step (ground truth allowed: it is not a policy)."""
+
+    def decided(self, match: Match, actions: Mapping[str, Action | None]) -> None:
+        """Called every step after all policies acted, before the step is played (None: a fault)."""
+
+    def done(self, match: Match) -> bool:
+        """Checked before every step: True ends the run there."""
 
 
 @dataclass
@@ -114,15 +129,20 @@ def run_match(
     progress: bool = True,
     max_steps: int | None = None,
     match: Match | None = None,
+    observer: MatchObserver | None = None,
+    policy_seeds: Mapping[str, int] | None = None,
 ) -> MatchSummary:
-    """Play one match to the end (or ``max_steps``) and write its outputs to ``out_dir``."""
+    """Play one match to the end (or ``max_steps``, or until ``observer`` is done) and write its outputs.
+
+    ``policy_seeds``: the seed each policy's ``reset`` gets (default: drawn from ``seed``).
+    """
     match = match or Match(config)
     missing = [a for a in match.agent_names if a not in policies]
     if missing:
         raise ValueError(f"no policy for agents {missing}; policies given for {sorted(policies)}")
-    for policy in policies.values():
-        if hasattr(policy, "reset"):
-            policy.reset()
+    seeds = dict(policy_seeds) if policy_seeds is not None else default_policy_seeds(seed, match.agent_names)
+    for agent in match.agent_names:
+        policies[agent].reset(agent, int(seeds[agent]))
     out_dir = Path(out_dir) if out_dir is not None else None
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -138,7 +158,9 @@ def run_match(
     try:
         match_log.record(match, _estimates(policies))
         while not match.finished and (max_steps is None or steps < max_steps):
-            actions = {}
+            if observer is not None and observer.done(match):
+                break
+            actions: dict[str, Action | None] = {}
             for agent in match.agent_names:
                 try:
                     actions[agent] = parse_action(agent, policies[agent].act(observations[agent]))
@@ -148,6 +170,8 @@ def run_match(
                         match.events.append(event)
                         _write_events(events_file, [event])
                     actions[agent] = None
+            if observer is not None:
+                observer.decided(match, actions)
             result = match.step(actions)
             observations = result.observations
             steps += 1
@@ -173,12 +197,17 @@ def run_match(
     return summary
 
 
-def _estimates(policies: Mapping[str, Policy]) -> dict[str, tuple[float, float, float] | None]:
-    estimates = {}
+def default_policy_seeds(seed: int, agents: tuple[str, ...]) -> dict[str, int]:
+    """One seed per robot's policy, drawn from the match seed apart from the match's own draws."""
+    children = np.random.SeedSequence(seed).spawn(POLICY_SEED_STREAM + 1)[POLICY_SEED_STREAM].spawn(len(agents))
+    return {agent: int(child.generate_state(1)[0]) for agent, child in zip(agents, children)}
+
+
+def _estimates(policies: Mapping[str, Policy]) -> dict[str, PoseTuple | None]:
+    estimates: dict[str, PoseTuple | None] = {}
     for agent, policy in policies.items():
-        estimate = getattr(policy, "pose_estimate", None)
         try:
-            estimates[agent] = estimate() if callable(estimate) else None
+            estimates[agent] = policy.pose_estimate() if isinstance(policy, PoseReporter) else None
         except Exception:  # an estimate is for the log only; a failure there is not a fault of play
             estimates[agent] = None
     return estimates

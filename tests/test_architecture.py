@@ -1,4 +1,4 @@
-"""The dependency rules of DESIGN.md section 2: import-linter contracts and import checks."""
+"""The dependency rules of docs/design.md section 2: import-linter contracts and import checks."""
 
 from __future__ import annotations
 
@@ -57,6 +57,9 @@ def test_contracts_cover_the_design_rules() -> None:
         "match-below-agents",
         "agents-see-only-public-facts",
         "public-facts-pure",
+        "scenarios-common-below",
+        "scenarios-concerns-independent",
+        "scenarios-cli-on-top",
     }
 
 
@@ -85,6 +88,18 @@ VIOLATIONS = {
         {"agents/_sub/__init__.py": "", "agents/_sub/_bad.py": "from world._simulated import pybullet\n"},
     ),
     "field pulls in pybullet": ("public-facts-pure", {"world/field.py": "from world import _simulated\n"}),
+    "scenarios.common imports a concern": (
+        "scenarios-common-below",
+        {"scenarios/common/_bad.py": "from scenarios.localization import samples\n"},
+    ),
+    "perception imports localization": (
+        "scenarios-concerns-independent",
+        {"scenarios/perception/_bad.py": "from scenarios.localization.samples import LocalizationSample\n"},
+    ),
+    "a tool imports perception": (
+        "scenarios-concerns-independent",
+        {"scenarios/tools/_bad.py": "def f():\n    import scenarios.perception.scoring\n"},
+    ),
 }
 
 

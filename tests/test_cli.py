@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from scenarios import cli
-from scenarios.bench import QUICK_REPEATS, run_bench
+from scenarios.tools.bench import QUICK_REPEATS, run_bench
 from world.errors import InvalidPoseError
 
 CAMERA_FRAMES = (
@@ -133,7 +133,7 @@ def test_library_errors_give_one_line_and_exit_2(
     def refuse(out_dir: Path, seed: int = 0) -> list[Path]:
         raise InvalidPoseError("robot 'home_0' pose (9.0, 0.0) outside the world")
 
-    monkeypatch.setattr(cli, "run_world_demo", refuse)
+    monkeypatch.setattr(cli.world_demo, "run_world_demo", refuse)
     assert cli.main(["world-demo", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert "outside the world" in err and "Traceback" not in err

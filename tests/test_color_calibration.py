@@ -13,7 +13,7 @@ from agents.vision.colors import ColorClass
 from agents.vision.errors import ColorTableError
 from agents.vision.segmentation import ColorBox, ColorTable, ColorThresholds, clean_outliers, load_thresholds
 from scenarios import cli
-from scenarios.color_calibration import (
+from scenarios.tools.color_calibration import (
     OTHER,
     ROBOT,
     TRUTH_NAMES,

@@ -19,7 +19,7 @@ from agents.localization.disambiguation import (
     unique_landmark,
 )
 from agents.vision.percepts import CornerShape, LandmarkPercept, PostSide
-from scenarios.oracle_percepts import oracle_percepts
+from tests.oracle_percepts import oracle_percepts
 from tests.strategies import field_pose
 from world.field import FIELD, LandmarkId, LandmarkKind, Pose2D, normalize_angle
 

@@ -17,12 +17,12 @@ from agents.localization import (
     disambiguate,
     localizer,
 )
-from agents.localization.estimate import SOURCE_ODOMETER
+from agents.localization.estimate import EstimateSource
 from agents.localization.odometry import compose
 from agents.localization.thesis_method import REASON_ALL_REJECTED, REASON_FEW_LANDMARKS, REASON_JUMP
 from agents.vision.percepts import CornerShape, LandmarkPercept
 from match.protocol import Displacement
-from scenarios.oracle_percepts import oracle_percepts
+from tests.oracle_percepts import oracle_percepts
 from tests.strategies import field_pose
 from world.field import FIELD, GoalColor, LandmarkId, LandmarkKind, Pose2D, normalize_angle
 
@@ -207,7 +207,7 @@ def test_fewer_than_two_landmarks_give_the_odometer():
     start = Pose2D(0.0, 0.0, 0.0)
     loc = localizer("thesis", initial_pose=start)
     estimate = loc.localize([_percept(LandmarkKind.CENTER_CIRCLE, 0.0, 1.0, LandmarkId.CENTER_CIRCLE)])
-    assert estimate.source == SOURCE_ODOMETER and estimate.reason == REASON_FEW_LANDMARKS
+    assert estimate.source is EstimateSource.ODOMETER and estimate.reason == REASON_FEW_LANDMARKS
     assert estimate.pose == start
     assert localizer("thesis").localize([_percept(LandmarkKind.CENTER_CIRCLE, 0.0, 1.0, LandmarkId.CENTER_CIRCLE)]) is None
 
@@ -221,7 +221,7 @@ def test_all_candidates_rejected_give_the_odometer():
         _percept(LandmarkKind.GOAL_CENTER, 0.5, 3.0, LandmarkId.YELLOW_GOAL_CENTER),
     ]
     estimate = loc.localize(percepts)
-    assert estimate.source == SOURCE_ODOMETER and estimate.reason == REASON_ALL_REJECTED
+    assert estimate.source is EstimateSource.ODOMETER and estimate.reason == REASON_ALL_REJECTED
     assert estimate.pose == start
 
 
@@ -231,7 +231,7 @@ def test_a_jump_is_accepted_the_second_consecutive_time():
     percepts = oracle_percepts(truth, None)
     assert len(disambiguate(percepts)) >= 2
     first = loc.localize(percepts)
-    assert first.source == SOURCE_ODOMETER and first.reason == REASON_JUMP and first.pose == start
+    assert first.source is EstimateSource.ODOMETER and first.reason == REASON_JUMP and first.pose == start
     assert first.candidates  # the rejected landmark pose's candidates are reported
     second = loc.localize(percepts)
     assert second.source == "landmarks"
@@ -298,4 +298,4 @@ def test_odometry_alone_ignores_the_percepts():
     loc.move(Displacement(0.25, 0.0, 0.0))
     estimate = loc.localize(oracle_percepts(Pose2D(0.0, 0.0, 0.0), None))
     assert estimate.pose == compose(start, Displacement(0.25, 0.0, 0.0))
-    assert estimate.source == SOURCE_ODOMETER
+    assert estimate.source is EstimateSource.ODOMETER

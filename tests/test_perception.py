@@ -14,13 +14,10 @@ from hypothesis import strategies as st
 
 from agents.vision.percepts import LandmarkPercept
 from scenarios import cli
-from scenarios.perception_run import (
-    CROWD_ORDER,
+from scenarios.perception.records import CROWD_ORDER, FrameSetup, PerceptionConfig, PerceptionConfigError
+from scenarios.perception.run import (
     MEASURED,
-    FrameSetup,
     MIN_SEPARATION_M,
-    PerceptionConfig,
-    PerceptionConfigError,
     TIMING_KEYS,
     park_others,
     roster,
@@ -28,7 +25,7 @@ from scenarios.perception_run import (
     sample_setup,
     stage_frame,
 )
-from scenarios.perception_scoring import (
+from scenarios.perception.scoring import (
     MAX_GATE_M,
     STAT_KEYS,
     TrueLandmark,
@@ -37,7 +34,7 @@ from scenarios.perception_scoring import (
     match_frame,
 )
 from world.field import FIELD, LandmarkId, LandmarkKind, Pose2D
-from scenarios.perception_truth import to_torso, true_landmarks
+from scenarios.perception.truth import to_torso, true_landmarks
 from world.world import World
 
 KIND_VALUES = {k.value for k in LandmarkKind}

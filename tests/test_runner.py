@@ -20,12 +20,19 @@ SHORT = RefereeConfig(half_seconds=2.0, initial_seconds=0.2, ready_seconds=0.4, 
 FULL_MATCH_STEPS = 32_000  # two 10-minute halves with their pauses, in 40 ms steps
 
 
-class Walker:
+class Plain:
+    """A policy with nothing to reset."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        pass
+
+
+class Walker(Plain):
     def act(self, observation: dict) -> dict:
         return make_action(Motion.FORWARD, camera=1)
 
 
-class FailsAfter:
+class FailsAfter(Plain):
     """Raises from the 6th step on."""
 
     def __init__(self) -> None:
@@ -38,7 +45,7 @@ class FailsAfter:
         return make_action(Motion.FORWARD)
 
 
-class BadAction:
+class BadAction(Plain):
     def act(self, observation: dict) -> dict:
         return {"head": [9.0, 0.0]}
 
@@ -92,10 +99,12 @@ def test_a_full_match_log_stays_under_50_mb(faulty_match) -> None:
     assert bytes_per_step_per_robot * 8 * FULL_MATCH_STEPS < 50e6
 
 
-def test_match_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
-    import scenarios.match_run as match_run
+@pytest.fixture
+def quick_matches(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Matches of the match command with short pauses before the kick-off."""
+    import scenarios.matches.play as play
 
-    original = match_run.match_config
+    original = play.match_config
 
     def quick_config(*args, **kwargs):
         config = original(*args, **kwargs)
@@ -103,9 +112,12 @@ def test_match_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], monke
                            referee=RefereeConfig(half_seconds=config.referee.half_seconds, initial_seconds=0.2,
                                                  ready_seconds=0.4, set_seconds=0.2, shootout=config.referee.shootout))
 
-    monkeypatch.setattr(match_run, "match_config", quick_config)
-    argv = ["match", "--home", "2", "--away", "1", "--half-seconds", "1.5", "--seed", "4", "--out", str(tmp_path),
-            "--no-progress", "--no-shootout"]
+    monkeypatch.setattr(play, "match_config", quick_config)
+
+
+def test_match_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], quick_matches: None) -> None:
+    argv = ["match", "--home-players", "2", "--away-players", "1", "--half-seconds", "1.5", "--seed", "4",
+            "--out", str(tmp_path), "--no-progress", "--no-shootout"]
     assert cli.main(argv) == 0
     data = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
     assert data["config"] == {"home_players": 2, "away_players": 1, "half_seconds": 1.5, "shootout": False}
@@ -113,7 +125,47 @@ def test_match_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], monke
     assert "summary.json" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("argv", [["match", "--home", "5"], ["match", "--half-seconds", "-3"], ["match", "--away", "0"]])
+def test_match_command_plays_policies_by_name(tmp_path: Path, quick_matches: None) -> None:
+    argv = ["match", "--home", "stand", "--away", "tests.user_policies:WalkForward", "--policy", "home_1=scripted",
+            "--home-players", "2", "--away-players", "1", "--half-seconds", "1", "--seed", "2", "--out", str(tmp_path),
+            "--no-progress", "--no-shootout"]
+    assert cli.main(argv) == 0
+    log = np.load(tmp_path / "match_log.npz")
+    agents = [str(a) for a in log["agents"]]
+    poses = log["robots"]
+    playing = np.flatnonzero((log["state"] == 3) & (log["half"] == 1))  # PLAYING in the first half
+    moved = np.hypot(*(poses[playing[-1], :, :2] - poses[playing[0], :, :2]).T)
+    assert moved[agents.index("home_0")] < 0.05  # stand
+    assert moved[agents.index("away_0")] > 0.1  # the user's walker
+
+
+@pytest.mark.parametrize(
+    "flags, words",
+    [
+        (["--home", "striker"], ["--home", "unknown policy 'striker'", "scripted", "scan_localize", "stand"]),
+        (["--away", "tests.user_policies:Nope"], ["--away", "no class or function 'Nope'"]),
+        (["--policy", "home_3=stand", "--home-players", "2"], ["home_3 is not on the field"]),
+        (["--policy", "home_9=stand"], ["--policy", "home_9"]),
+        (["--policy", "home_1"], ["--policy", "AGENT=POLICY"]),
+        (["--policy", "home_1=stand", "--policy", "home_1=scripted"], ["home_1 more than once"]),
+    ],
+)
+def test_match_command_refuses_bad_policies_before_writing(
+    flags: list[str], words: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "out"
+    try:
+        code = cli.main(["match", *flags, "--out", str(out), "--no-progress"])
+    except SystemExit as exit_info:
+        code = exit_info.code
+    assert code == 2 and not out.exists()
+    message = capsys.readouterr().err
+    for word in words:
+        assert word in message
+
+
+@pytest.mark.parametrize("argv", [["match", "--home-players", "5"], ["match", "--half-seconds", "-3"],
+                                  ["match", "--away-players", "0"]])
 def test_match_command_refuses_bad_options(argv: list[str], tmp_path: Path) -> None:
     try:
         code = cli.main([*argv, "--out", str(tmp_path), "--no-progress"])

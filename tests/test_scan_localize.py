@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import json
 import math
 
+import numpy as np
 import pytest
 
 from agents.behavior.scan_localize import ScanLocalizeAgent
-from scenarios.localization_run import run_alone, summarize
+from match.protocol import GameState
+from scenarios.localization.run import RunTask, run_alone, simulate_run
+from scenarios.localization.spec import RobotEntry, ScenarioSpec
+from scenarios.localization.statistics import summarize
 from world.field import Pose2D
 
 METHODS = ("thesis", "particle", "odometry")
@@ -51,3 +56,30 @@ def test_same_seed_same_samples(short_run):
 def test_agent_needs_a_method():
     with pytest.raises(ValueError, match="at least one"):
         ScanLocalizeAgent((), Pose2D(0.0, 0.0, 0.0))
+
+
+@pytest.mark.render
+def test_a_scenario_run_logs_the_agents_estimates_beside_the_truth(tmp_path):
+    """The run goes through the one runner; its match log holds the agent's pose estimates."""
+    robot = RobotEntry("home_1", "scan_localize", measured=True, start=Pose2D(-1.0, 0.5, 0.0))
+    spec = ScenarioSpec("one", "", 3, 1, 5, METHODS, "exact", False, (robot,))
+    outcome = simulate_run(RunTask(spec, 0, 5, 3), out_dir=tmp_path)
+    assert outcome.complete
+    log = np.load(tmp_path / "match_log.npz")
+    assert list(log["agents"]) == ["home_1"] and (log["state"] == int(GameState.PLAYING)).all()
+    estimates, truth = log["estimates"][:, 0], log["robots"][:, 0]
+    assert np.isfinite(estimates).all()
+    error = np.hypot(*(estimates[-1, :2] - truth[-1, :2]))
+    assert error < 0.5  # the guiding method (thesis) after three scans
+    changed = np.flatnonzero(np.any(np.diff(estimates, axis=0) != 0, axis=1))
+    assert len(changed) >= 2  # the estimate follows the localizations
+    assert json.loads((tmp_path / "summary.json").read_text())["steps"] == len(log["time_s"]) - 1
+
+
+def test_agent_reports_its_start_and_is_reset_by_the_runner_protocol():
+    agent = ScanLocalizeAgent(("thesis",), Pose2D(0.5, -1.0, 1.0))
+    assert agent.pose_estimate() == (0.5, -1.0, 1.0)
+    agent.reset("home_2", 7)
+    first = agent.waypoint
+    agent.reset("home_2", 7)
+    assert agent.agent_id == "home_2" and agent.waypoint == first and agent.events == []

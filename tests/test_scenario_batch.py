@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 
 from scenarios import cli
-from scenarios import scenario_batch
-from scenarios.scenario_batch import BatchOptions, ScenarioBatchError, run_scenario
-from scenarios.scenario_file import load_scenario
-from scenarios.scenario_run import RunTask, simulate_run
+from scenarios.localization import batch as scenario_batch
+from scenarios.localization.batch import BatchOptions, ScenarioBatchError, run_scenario
+from scenarios.localization.file import load_scenario
+from scenarios.localization.run import RunTask, simulate_run
 
 ALONE = """
 name = "tiny alone"

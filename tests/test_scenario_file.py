@@ -9,14 +9,14 @@ import pickle
 import pytest
 
 from agents.localization import LOCALIZERS
-from scenarios.scenario_file import (
+from scenarios.localization.file import (
     BUILTIN_SCENARIOS,
     ScenarioFileError,
     builtin_path,
     load_scenario,
     parse_scenario,
 )
-from scenarios.scenario_spec import Policy, RobotEntry, ThesisReference
+from scenarios.localization.spec import RobotEntry, ThesisReference
 
 ALL_METHODS = ("thesis", "particle", "hybrid", "odometry")
 
@@ -65,16 +65,16 @@ def test_builtin_scenarios_load_with_the_thesis_values(name):
     assert len(spec.robots) == n_robots
     assert spec.thesis == ThesisReference(*thesis)
     assert (spec.half_seconds, spec.motion_noise_scale, spec.max_sim_seconds_per_run) == (600.0, 1.0, 1200.0)
-    assert all(r.policy is Policy.SCAN_LOCALIZE for r in spec.robots if r.measured)
+    assert all(r.policy == "scan_localize" for r in spec.robots if r.measured)
     assert all(r.start is None for r in spec.robots)
     assert load_scenario(builtin_path(name)) == spec
 
 
 def test_builtin_robots_in_file_order():
-    assert load_scenario("1").robots == (RobotEntry("home_1", Policy.SCAN_LOCALIZE, True, None),)
+    assert load_scenario("1").robots == (RobotEntry("home_1", "scan_localize", True, None),)
     spec = load_scenario("2")
     assert [r.id for r in spec.robots] == ["home_0", "home_1", "away_0", "away_1", "away_2"]
-    assert [r.policy for r in spec.robots] == [Policy.SCRIPTED, Policy.SCAN_LOCALIZE] + [Policy.SCRIPTED] * 3
+    assert [r.policy for r in spec.robots] == ["scripted", "scan_localize"] + ["scripted"] * 3
     spec = load_scenario("3")
     assert [r.id for r in spec.robots] == [f"home_{p}" for p in range(4)] + [f"away_{p}" for p in range(4)]
 
@@ -143,7 +143,12 @@ MALFORMED = [
     ),
     ("start with 2 numbers", doc(robots=robot("home_1", measured=True, start="[0.5, 1.0]")), "robots[0].start", "got [0.5, 1.0]"),
     ("start other text", doc(robots=robot("home_1", measured=True, start='"centre"')), "robots[0].start", "got 'centre'"),
-    ("scripted without referee", doc(robots=SOLO + robot("away_0", "scripted")), "robots[1].policy", "got 'scripted'"),
+    (
+        "policy path that does not import",
+        doc(robots=SOLO + robot("away_0", "tests.no_such_module:Striker")),
+        "robots[1].policy",
+        "got 'tests.no_such_module:Striker'",
+    ),
     (
         "referee numbering gap",
         doc(
@@ -252,7 +257,7 @@ def test_user_file_with_fixed_start(tmp_path):
     start = spec.robots[0].start
     assert (start.x, start.y) == (0.5, -1.0)
     assert start.theta == pytest.approx(math.pi / 2)
-    assert spec.robots[1] == RobotEntry("home_0", Policy.STAND, False, None)
+    assert spec.robots[1] == RobotEntry("home_0", "stand", False, None)
     assert spec.run_samples() == (3, 2, 2)
 
 
@@ -266,7 +271,7 @@ def test_defaults_of_a_minimal_file():
     assert spec.methods == tuple(LOCALIZERS)
     assert (spec.half_seconds, spec.motion_noise_scale, spec.max_sim_seconds_per_run) == (600.0, 1.0, 1200.0)
     assert spec.thesis is None
-    assert spec.robots == (RobotEntry("home_3", Policy.SCAN_LOCALIZE, True, None),)
+    assert spec.robots == (RobotEntry("home_3", "scan_localize", True, None),)
 
 
 @pytest.mark.parametrize(("seed", "ok"), [(0, True), (2**63 - 1, True), (-1, False), (2**63, False), (1.0, False)])

@@ -1,4 +1,4 @@
-"""The chapter 6 report (scenarios.scenario_report) on synthetic samples: statistics, CSV, JSON, tables, plots."""
+"""The chapter 6 report (scenarios.localization statistics, tables, figures) on synthetic samples: statistics, CSV, JSON, tables, plots."""
 
 from __future__ import annotations
 
@@ -10,19 +10,12 @@ from pathlib import Path
 import pytest
 from scipy import stats
 
-from scenarios.localization_run import LocalizationSample
-from scenarios.scenario_report import (
-    RESULT_COLUMNS,
-    ScenarioReport,
-    method_statistics,
-    plot_errors,
-    plot_traces,
-    table_markdown,
-    write_combined_report,
-    write_results_csv,
-    write_scenario_report,
-)
-from scenarios.scenario_spec import Policy, RobotEntry, ScenarioSpec, ThesisReference
+from scenarios.localization.batch import write_combined_report, write_scenario_report
+from scenarios.localization.figures import plot_errors, plot_traces
+from scenarios.localization.samples import LocalizationSample
+from scenarios.localization.spec import RobotEntry, ScenarioSpec, ThesisReference
+from scenarios.localization.statistics import ScenarioReport, method_statistics
+from scenarios.localization.tables import RESULT_COLUMNS, table_markdown, write_results_csv
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 THESIS_1 = ThesisReference(12.39, 2.83, 3.53, 2.86)
@@ -54,7 +47,7 @@ def sample(
 def spec(name: str = "scenario 1", thesis: ThesisReference | None = THESIS_1) -> ScenarioSpec:
     return ScenarioSpec(
         name=name, description="one robot alone", samples=4, runs=1, seed=0, methods=("thesis", "particle"),
-        camera_model="exact", referee=False, robots=(RobotEntry("home_1", Policy.SCAN_LOCALIZE, True, None),),
+        camera_model="exact", referee=False, robots=(RobotEntry("home_1", "scan_localize", True, None),),
         thesis=thesis,
     )
 

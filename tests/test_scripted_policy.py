@@ -71,6 +71,13 @@ def make_obs(
     return obs
 
 
+def scripted(agent: str) -> ScriptedPlayer:
+    """A scripted player reset to play ``agent``."""
+    player = ScriptedPlayer()
+    player.reset(agent, 0)
+    return player
+
+
 def motion_of(action: dict) -> Motion:
     return MOTIONS[int(action["motion"])]
 
@@ -130,7 +137,7 @@ def test_every_action_is_valid() -> None:
     space = action_space()
     observations = observation_space()
     observations.seed(1)
-    player = ScriptedPlayer("home_1")
+    player = scripted("home_1")
     for step in range(40):
         obs = observations.sample()
         if step % 3 == 0:
@@ -142,7 +149,7 @@ def test_every_action_is_valid() -> None:
 
 
 def test_fallen_on_back_stands_up_from_back_until_it_ends() -> None:
-    player = ScriptedPlayer("home_2")
+    player = scripted("home_2")
     obs = make_obs()
     obs.update(fallen=1, accelerometer=np.asarray((9.81, 0.0, 0.3), np.float32))
     assert motion_of(player.act(obs)) is Motion.STAND_UP_FROM_BACK
@@ -154,16 +161,16 @@ def test_fallen_on_back_stands_up_from_back_until_it_ends() -> None:
 def test_fallen_on_front_stands_up_from_front() -> None:
     obs = make_obs()
     obs.update(fallen=1, accelerometer=np.asarray((-9.81, 0.0, 0.3), np.float32))
-    assert motion_of(ScriptedPlayer("home_2").act(obs)) is Motion.STAND_UP_FROM_FRONT
+    assert motion_of(scripted("home_2").act(obs)) is Motion.STAND_UP_FROM_FRONT
 
 
 @pytest.mark.parametrize("state", [GameState.INITIAL, GameState.READY, GameState.SET, GameState.FINISHED])
 def test_stands_when_not_playing(state: GameState) -> None:
-    assert motion_of(ScriptedPlayer("away_3").act(make_obs(state=state))) is Motion.STAND
+    assert motion_of(scripted("away_3").act(make_obs(state=state))) is Motion.STAND
 
 
 def test_camera_is_off_on_alternate_steps() -> None:
-    player = ScriptedPlayer("home_1", camera_every_steps=2)
+    player = scripted("home_1")
     cameras = [CameraChoice(player.act(make_obs())["camera"]) for _ in range(6)]
     assert cameras[1::2] == [CameraChoice.OFF] * 3
     assert all(c is not CameraChoice.OFF for c in cameras[0::2])
@@ -184,7 +191,7 @@ def _after_set(player: ScriptedPlayer, defended_goal: int) -> None:
 @pytest.mark.parametrize("defended_goal", [0, 1])
 @pytest.mark.parametrize("left_m, kick", [(-0.04, Motion.KICK_RIGHT), (0.04, Motion.KICK_LEFT)])
 def test_kicks_a_close_ball_toward_the_attacked_goal(defended_goal: int, left_m: float, kick: Motion) -> None:
-    player = ScriptedPlayer("home_1")
+    player = scripted("home_1")
     _after_set(player, defended_goal)
     assert motion_of(player.act(_ball_obs(0.14, left_m, defended_goal=defended_goal))) is kick
     obs = make_obs(defended_goal=defended_goal)
@@ -193,7 +200,7 @@ def test_kicks_a_close_ball_toward_the_attacked_goal(defended_goal: int, left_m:
 
 
 def test_does_not_kick_toward_its_own_goal() -> None:
-    player = ScriptedPlayer("home_1")
+    player = scripted("home_1")
     _after_set(player, 0)
     obs = _ball_obs(0.14, -0.02)
     obs["gyro"] = np.asarray((0.0, 0.0, math.pi / 0.04), np.float32)  # turned around in one step
@@ -204,10 +211,10 @@ def test_does_not_kick_toward_its_own_goal() -> None:
 
 
 def test_walks_to_a_far_ball_and_turns_to_a_side_ball() -> None:
-    player = ScriptedPlayer("home_1")
+    player = scripted("home_1")
     action = player.act(_ball_obs(1.5, 0.1, pitch=0.3, camera=CameraChoice.TOP))
     assert motion_of(action) is Motion.WALK and action["walk"][0] > 0.0 and action["walk"][2] > 0.0
-    action = ScriptedPlayer("home_1").act(_ball_obs(1.0, -0.6, pitch=0.3, camera=CameraChoice.TOP, yaw=-0.5))
+    action = scripted("home_1").act(_ball_obs(1.0, -0.6, pitch=0.3, camera=CameraChoice.TOP, yaw=-0.5))
     assert motion_of(action) is Motion.WALK and action["walk"][0] == 0.0 and action["walk"][2] < 0.0
 
 
@@ -219,11 +226,11 @@ def test_holds_position_when_a_teammate_is_nearer() -> None:
     radio["sender"][0] = 2
     radio["length"][0] = len(packet)
     radio["data"][0, : len(packet)] = np.frombuffer(packet, np.uint8)
-    assert motion_of(ScriptedPlayer("home_1").act(obs)) is Motion.STAND
+    assert motion_of(scripted("home_1").act(obs)) is Motion.STAND
 
 
 def test_sends_its_ball_estimate_every_fifth_step() -> None:
-    player = ScriptedPlayer("home_3")
+    player = scripted("home_3")
     obs = _ball_obs(1.5, 0.0, player=3, pitch=0.3, camera=CameraChoice.TOP)
     packets = [player.act(obs)["radio"] for _ in range(6)]
     assert [bool(p) for p in packets] == [True, False, False, False, False, True]
@@ -232,16 +239,16 @@ def test_sends_its_ball_estimate_every_fifth_step() -> None:
 
 
 def test_goalkeeper_side_steps_without_walking_forward() -> None:
-    keeper = ScriptedPlayer("home_0")
+    keeper = scripted("home_0")
     action = keeper.act(_ball_obs(1.5, 0.5, player=0, pitch=0.3, camera=CameraChoice.TOP))
     assert motion_of(action) is Motion.WALK
     vx, vy, _ = action["walk"]
     assert vx == 0.0 and vy > 0.0
-    assert motion_of(ScriptedPlayer("home_0").act(_ball_obs(0.14, 0.03, player=0))) is Motion.KICK_LEFT
+    assert motion_of(scripted("home_0").act(_ball_obs(0.14, 0.03, player=0))) is Motion.KICK_LEFT
 
 
 def test_scans_and_then_turns_when_the_ball_is_unknown() -> None:
-    player = ScriptedPlayer("home_2")
+    player = scripted("home_2")
     obs = make_obs()
     actions = [player.act(obs) for _ in range(150)]
     yaws = [float(a["head"][0]) for a in actions]

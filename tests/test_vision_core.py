@@ -14,13 +14,13 @@ from agents.vision.camera_models import ExactCameraModel, ThesisCameraModel, cam
 from agents.vision.colors import ColorClass
 from agents.vision.errors import VisionConfigError, VisionInputError
 from agents.vision.frame import CameraFrame
+from agents.vision.head_scan import SCAN_PITCH_RAD as PITCH_17
 from agents.vision.head_scan import HeadScan, fuse_percepts, scan_coverage_rad
 from agents.vision.percepts import LandmarkPercept, PostSide
 from agents.vision.pipeline import VisionPipeline
+from match.protocol import observation_space
 from world.camera_model import NAO_CAMERA, CameraPosition, world_to_camera
 from world.field import FIELD, GoalColor, LandmarkId, LandmarkKind, Pose2D
-
-PITCH_17 = math.radians(17.0)
 
 
 @pytest.fixture(scope="module")
@@ -82,7 +82,10 @@ def test_bad_accelerometer_and_camera_are_refused():
 
 
 def test_observation_with_the_camera_off_is_refused():
-    obs = {"image": blank(), "head": np.zeros(2, np.float32), "camera": 0, "accelerometer": np.array([0, 0, 9.81])}
+    space = observation_space()
+    space.seed(0)
+    obs = space.sample()
+    obs.update(image=blank(), head=np.zeros(2, np.float32), camera=0, accelerometer=np.array([0, 0, 9.81], np.float32))
     with pytest.raises(VisionInputError, match="camera is off"):
         CameraFrame.from_observation(obs)
     obs["camera"] = 1

@@ -14,6 +14,7 @@ from agents.vision.border import FieldBorder, find_border
 from agents.vision.camera_models import camera_model
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
+from agents.vision.head_scan import SCAN_PITCH_RAD  # thesis head scan: camera pitched 17 degrees down
 from agents.vision.lines.classification import LineKind, fit_polynomial, process_line, verify_curve
 from agents.vision.lines.detect import detect_line_landmarks, find_lines
 from agents.vision.lines.formation import add_limit, form_lines
@@ -329,9 +330,6 @@ def one_robot_world():
     world = World([RobotSpec("r", TeamColor.BLUE)])
     yield world
     world.close()
-
-
-SCAN_PITCH_RAD = math.radians(17.0)  # thesis head scan: camera pitched 17 degrees down
 
 
 def observe(world, pose, yaw_rad, pitch_rad=SCAN_PITCH_RAD):

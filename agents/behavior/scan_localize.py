@@ -31,19 +31,21 @@ import enum
 import logging
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from agents.localization import PoseEstimate, localizer
-from agents.localization.estimate import SOURCE_ODOMETER
+from agents.localization import LOCALIZERS, PoseEstimate, localizer
+from agents.localization.estimate import EstimateSource
+from agents.observation import Observation
 from agents.vision.frame import CameraFrame
 from agents.vision.head_scan import HeadScan
 from agents.vision.percepts import LandmarkPercept
 from agents.vision.pipeline import VisionPipeline
-from match.protocol import MOTIONS, CameraChoice, Displacement, GameState, KickOff, Motion, kickoff_pose, make_action
-from world.field import FIELD, GoalColor, Pose2D, normalize_angle
+from match.protocol import CameraChoice, GameState, KickOff, Motion, kickoff_pose, make_action
+from world.field import FIELD, Pose2D, normalize_angle
 
 LOG = logging.getLogger(__name__)
 
@@ -72,6 +74,7 @@ KICKOFF_HEADING_RAD = math.radians(30.0)  # in READY, at the kick-off position, 
 WIDE_TURN_RAD = math.radians(50.0)  # farther off than this, turn 60 degrees; nearer, 40
 _HELD_STATES = (GameState.INITIAL, GameState.SET, GameState.FINISHED)  # the referee holds robots still
 
+DEFAULT_METHODS: tuple[str, ...] = tuple(LOCALIZERS)  # every method side by side; the first steers
 NO_PERCEPTS = "no usable percepts in the scan"  # the reason of an estimate kept from before the scan
 
 
@@ -100,31 +103,39 @@ class LocalizationEvent:
 
 
 class ScanLocalizeAgent:
-    """A policy (``act(observation) -> action``) running the cycle with several localizers.
+    """A policy (:class:`match.protocol.policy.Policy`) running the cycle with several localizers.
 
     ``methods``: localizer names (see :func:`agents.localization.localizer`); the first one
-    steers the motion choice. ``start``: the pose the robot is placed at, known to it (the
-    thesis resets the odometer there); ``None``: its kick-off position, read from the first
-    observation's game-control view. ``seed`` seeds the motion choice and the particle
-    filters.
+    steers the motion choice and is the pose :meth:`pose_estimate` reports. ``start``: the
+    pose the robot is placed at, known to it (the thesis resets the odometer there);
+    ``None``: its kick-off position, read from the first observation's game-control view.
+    The seed of :meth:`reset` seeds the motion choice and the particle filters.
     """
 
     def __init__(
         self,
-        methods: Sequence[str],
-        start: Pose2D | None,
-        seed: int = 0,
+        methods: Sequence[str] = DEFAULT_METHODS,
+        start: Pose2D | None = None,
         camera_model: str = "exact",
     ):
         if not methods:
             raise ValueError("methods must name at least one localizer")
-        seeds = np.random.SeedSequence(seed).spawn(len(methods) + 1)
+        for name in methods:
+            localizer(name)  # raises on an unknown name now, not at reset
         self.methods = tuple(methods)
+        self.start = start
+        self.pipeline = VisionPipeline(camera_model)
+        self.reset("", 0)
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        """Forget every estimate and event; seed the motion choice and the localizers."""
+        seeds = np.random.SeedSequence(seed).spawn(len(self.methods) + 1)
+        self.agent_id = agent_id
         self.localizers = {
             name: localizer(name, seed=int(s.generate_state(1)[0])) for name, s in zip(self.methods, seeds[1:])
         }
         self.rng = np.random.default_rng(seeds[0])
-        self.pipeline = VisionPipeline(camera_model)
+        start = self.start
         self.belief = start if start is not None else Pose2D(0.0, 0.0, 0.0)
         if start is not None:
             self._reset_localizers(start)
@@ -138,48 +149,52 @@ class ScanLocalizeAgent:
         self._needs_start = start is None
         self._state: GameState | None = None
 
-    def act(self, observation: dict) -> dict:
+    def pose_estimate(self) -> tuple[float, float, float] | None:
+        """The guiding method's pose as of the last localization or kick-off (m, m, rad; field frame)."""
+        return (self.belief.x, self.belief.y, self.belief.theta)
+
+    def act(self, observation: Observation | Mapping[str, Any]) -> dict:
+        obs = Observation.of(observation)
         self.step += 1
-        sequence = int(observation["last_motion_sequence"])
+        sequence = obs.last_motion_sequence
         if self._sequence is None:
             self._sequence = sequence
-        state = GameState(int(observation["game"]["state"]))
+        state = obs.game.state
         if self._needs_start or (self._state is GameState.SET and state is GameState.PLAYING):
             self._needs_start = False
-            self._reset_localizers(self._kickoff_pose(observation["game"]))  # thesis 5.5: reset at kick-off
+            self._reset_localizers(self._kickoff_pose(obs))  # thesis 5.5: reset at kick-off
         self._state = state
-        self._take_finished_motion(observation, sequence)
-        if int(observation["fallen"]) or self._standing_up(observation):
-            return self._stand_up(observation)
+        self._take_finished_motion(obs, sequence)
+        if obs.fallen or self._standing_up(obs):
+            return self._stand_up(obs)
         if self.phase is Phase.MOVE:
-            return self._move(observation, sequence, state)
-        return self._scan_step(observation)
+            return self._move(obs, sequence, state)
+        return self._scan_step(obs)
 
     # ---- phases --------------------------------------------------------------------------
 
-    def _take_finished_motion(self, observation: dict, sequence: int) -> None:
+    def _take_finished_motion(self, obs: Observation, sequence: int) -> None:
         """Feed the chosen motion's nominal displacement to every localizer once it finished, then scan.
 
         A motion cut short (a fall) finishes too, with the displacement of the part played.
         """
         if self._motion is None or sequence == self._sequence:
             return
-        if int(observation["last_motion"]) != MOTIONS.index(self._motion):
+        if obs.last_motion is not self._motion:
             return  # the stand it interrupted, or a stand-up, finished first
         self._sequence = sequence
-        forward, left, turn = (float(v) for v in np.asarray(observation["odometry"], float))
         for loc in self.localizers.values():
-            loc.move(Displacement(forward, left, turn))
+            loc.move(obs.odometry)
         self._motion = None
         self._start_scan()
 
-    def _move(self, observation: dict, sequence: int, state: GameState) -> dict:
+    def _move(self, obs: Observation, sequence: int, state: GameState) -> dict:
         if state in _HELD_STATES:
             self._motion = None
             return make_action(Motion.STAND, head=(0.0, 0.3), camera=CameraChoice.OFF)
         if self._motion is None:
             if state is GameState.READY:
-                self._motion = self._ready_motion(self._kickoff_pose(observation["game"]))
+                self._motion = self._ready_motion(self._kickoff_pose(obs))
                 if self._motion is None:
                     return make_action(Motion.STAND, head=(0.0, 0.3), camera=CameraChoice.OFF)
             else:
@@ -187,18 +202,18 @@ class ScanLocalizeAgent:
             self._sequence = sequence
         return make_action(self._motion, head=(0.0, 0.3), camera=CameraChoice.OFF)  # no image needed while moving
 
-    def _standing_up(self, observation: dict) -> bool:
-        index = int(observation["motion"])
-        return 0 <= index < len(MOTIONS) and MOTIONS[index].is_stand_up
+    @staticmethod
+    def _standing_up(obs: Observation) -> bool:
+        return obs.motion is not None and obs.motion.is_stand_up
 
-    def _stand_up(self, observation: dict) -> dict:
+    def _stand_up(self, obs: Observation) -> dict:
         """Get up; afterwards scan again (frames taken while falling are of no use)."""
         self._motion = None
         self._start_scan()
-        if self._standing_up(observation):
-            motion = MOTIONS[int(observation["motion"])]
+        if obs.motion is not None and obs.motion.is_stand_up:
+            motion = obs.motion
         else:  # lying on the back reads about +9.81 m/s^2 on torso x, on the front about -9.81
-            back = float(observation["accelerometer"][0]) > 0.0
+            back = obs.accelerometer_mps2[0] > 0.0
             motion = Motion.STAND_UP_FROM_BACK if back else Motion.STAND_UP_FROM_FRONT
         return make_action(motion, head=(0.0, 0.0), camera=CameraChoice.OFF)
 
@@ -206,15 +221,15 @@ class ScanLocalizeAgent:
         self._scan = HeadScan(self.pipeline)
         self.phase = Phase.SCAN
 
-    def _scan_step(self, observation: dict) -> dict:
+    def _scan_step(self, obs: Observation) -> dict:
         scan = self._scan
         assert scan is not None
-        if int(observation["camera"]) != int(CameraChoice.OFF):
-            scan.feed(CameraFrame.from_observation(observation))
+        if obs.image is not None:
+            scan.feed(CameraFrame.from_observation(obs))
         if scan.done:
             self._localize(scan.result().percepts)
             self.phase = Phase.MOVE
-            return self._move(observation, int(observation["last_motion_sequence"]), self._state or GameState.PLAYING)
+            return self._move(obs, obs.last_motion_sequence, self._state or GameState.PLAYING)
         target = scan.target
         return make_action(Motion.STAND, head=(target.yaw_rad, target.pitch_rad), camera=CameraChoice.TOP)
 
@@ -228,7 +243,7 @@ class ScanLocalizeAgent:
             if estimate is None and loc.pose is not None:
                 # Nothing usable in the scan: the robot goes on with the pose it has (thesis 5.5).
                 pose = loc.pose
-                estimate = PoseEstimate(pose.x, pose.y, pose.theta, name, SOURCE_ODOMETER, reason=NO_PERCEPTS)
+                estimate = PoseEstimate(pose.x, pose.y, pose.theta, name, EstimateSource.ODOMETER, reason=NO_PERCEPTS)
             results.append((name, estimate))
         estimates = tuple(results)
         guide = estimates[0][1]
@@ -272,10 +287,9 @@ class ScanLocalizeAgent:
         self.belief = pose
 
     @staticmethod
-    def _kickoff_pose(game: dict) -> Pose2D:
+    def _kickoff_pose(obs: Observation) -> Pose2D:
         """This robot's kick-off position from the game-control view of its observation."""
-        defended = GoalColor.BLUE if int(game["defended_goal"]) == 0 else GoalColor.YELLOW
-        return kickoff_pose(int(game["player"]), int(game["kickoff"]) == int(KickOff.OWN_TEAM), defended)
+        return kickoff_pose(obs.player, obs.game.kickoff is KickOff.OWN_TEAM, obs.game.defended_goal)
 
     def _draw_waypoint(self) -> tuple[float, float]:
         """A uniform point on the field, ``WAYPOINT_MARGIN_M`` inside its lines (m, field frame)."""

@@ -14,21 +14,13 @@ from __future__ import annotations
 import logging
 import math
 import struct
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-
-import numpy as np
+from typing import Any
 
 from agents.behavior.ball_finder import BallPercept, find_ball
-from match.protocol import (
-    MOTIONS,
-    NO_MOTION,
-    CameraChoice,
-    GameState,
-    WALK_HIGH,
-    WALK_LOW,
-    Motion,
-    make_action,
-)
+from agents.observation import Observation, RadioPacket
+from match.protocol import WALK_HIGH, WALK_LOW, CameraChoice, GameState, GoalColor, Motion, make_action
 from world.camera_model import NAO_HEAD, CameraPosition
 from world.field import FIELD, normalize_angle
 
@@ -106,51 +98,12 @@ class TeammateReport:
 
 
 @dataclass(frozen=True)
-class Observed:
-    """What one observation says, in plain types."""
-
-    state: GameState
-    player: int
-    defended_goal: int  # 0 blue (x = -3), 1 yellow (x = +3)
-    fallen: bool
-    accelerometer_x_mps2: float
-    gyro_z_radps: float
-    motion: Motion | None  # playing now, None when idle
-    head_yaw_rad: float
-    head_pitch_rad: float
-    camera: CameraChoice
-    image: np.ndarray
-    reports: tuple[TeammateReport, ...]
-
-
-@dataclass(frozen=True)
 class Command:
     """What to do this step: a motion (with its walk velocity) and where to look."""
 
     motion: Motion
     walk: tuple[float, float, float] = _STILL
     head: tuple[float, float] = (0.0, SCAN_PITCH_RAD)
-
-
-def read_observation(obs: dict) -> Observed:
-    """Unpack an observation dict of :func:`match.protocol.observation_space`."""
-    game = obs["game"]
-    player = int(game["player"])
-    motion_index = int(obs["motion"])
-    return Observed(
-        state=GameState(int(game["state"])),
-        player=player,
-        defended_goal=int(game["defended_goal"]),
-        fallen=int(obs["fallen"]) == 1,
-        accelerometer_x_mps2=float(obs["accelerometer"][0]),
-        gyro_z_radps=float(obs["gyro"][2]),
-        motion=MOTIONS[motion_index] if 0 <= motion_index < NO_MOTION else None,
-        head_yaw_rad=float(obs["head"][0]),
-        head_pitch_rad=float(obs["head"][1]),
-        camera=CameraChoice(int(obs["camera"])),
-        image=obs["image"],
-        reports=decode_reports(obs["radio"], player),
-    )
 
 
 def encode_report(player: int, ball: BallPercept | None) -> bytes:
@@ -160,22 +113,21 @@ def encode_report(player: int, ball: BallPercept | None) -> bytes:
     return REPORT.pack(player, ball.distance_m, ball.bearing_rad)
 
 
-def decode_reports(radio: dict, own_player: int) -> tuple[TeammateReport, ...]:
-    """Teammates' ball reports in the inbox; packets of another layout are ignored."""
+def decode_reports(packets: tuple[RadioPacket, ...], own_player: int) -> tuple[TeammateReport, ...]:
+    """Teammates' ball reports among the packets received; packets of another layout are ignored."""
     reports = []
-    for i in range(int(radio["count"])):
-        sender, length = int(radio["sender"][i]), int(radio["length"][i])
-        if sender == own_player or length != REPORT.size:
+    for packet in packets:
+        if packet.sender == own_player or len(packet.data) != REPORT.size:
             continue
-        player, distance, bearing = REPORT.unpack(np.asarray(radio["data"][i][:length], dtype=np.uint8).tobytes())
-        if player == sender and math.isfinite(distance) and math.isfinite(bearing):
-            reports.append(TeammateReport(sender, distance, bearing))
+        player, distance, bearing = REPORT.unpack(packet.data)
+        if player == packet.sender and math.isfinite(distance) and math.isfinite(bearing):
+            reports.append(TeammateReport(packet.sender, distance, bearing))
     return tuple(reports)
 
 
-def kickoff_heading(defended_goal: int) -> float:
+def kickoff_heading(defended_goal: GoalColor) -> float:
     """Field heading at kick-off, which is also the attacked direction: +x when defending blue."""
-    return 0.0 if defended_goal == 0 else math.pi
+    return 0.0 if defended_goal is GoalColor.BLUE else math.pi
 
 
 def stand_up_for(accelerometer_x_mps2: float) -> Motion:
@@ -255,7 +207,7 @@ def keep_goal(ball: BallPercept, heading_error_rad: float) -> tuple[Motion, tupl
 
 
 @dataclass
-class HeadScan:
+class HeadSweep:
     """A triangular head-yaw sweep across +-SCAN_AMPLITUDE_RAD, counting its reversals."""
 
     yaw_rad: float = 0.0
@@ -290,7 +242,7 @@ class _Memory:
     ball: BallPercept | None = None
     ball_age: int = BALL_MEMORY_STEPS + 1
     camera: CameraPosition = CameraPosition.TOP
-    scan: HeadScan = field(default_factory=HeadScan)
+    scan: HeadSweep = field(default_factory=HeadSweep)
     searching: bool = False
     search_turn_steps: int = 0
     last_bearing_rad: float = 0.0
@@ -298,24 +250,29 @@ class _Memory:
 
 
 class ScriptedPlayer:
-    """The scripted policy of one robot: ``act(observation) -> action dict``."""
+    """The scripted policy (:class:`match.protocol.policy.Policy`): ball chaser, or keeper as player 0.
 
-    def __init__(self, agent: str, *, camera_every_steps: int = 2):
-        if camera_every_steps < 1:
+    ``camera_every_steps``: the camera is on every this many control steps, off between.
+    It draws no random numbers, so the seed of :meth:`reset` changes nothing.
+    """
+
+    def __init__(self, *, camera_every_steps: int = 2):
+        if not isinstance(camera_every_steps, int) or camera_every_steps < 1:
             raise ValueError(f"camera_every_steps={camera_every_steps!r}; expected an integer >= 1")
-        self.agent = agent
-        self.camera_every_steps = int(camera_every_steps)
+        self.agent = ""
+        self.camera_every_steps = camera_every_steps
         self._m = _Memory()
 
-    def reset(self) -> None:
-        """Forget everything (a new match or half)."""
+    def reset(self, agent_id: str, seed: int) -> None:
+        """Forget everything; play robot ``agent_id``."""
+        self.agent = agent_id
         self._m = _Memory()
 
     # ---- the step -----------------------------------------------------------------------
 
-    def act(self, observation: dict) -> dict:
+    def act(self, observation: Observation | Mapping[str, Any]) -> dict:
         """The action for one control step."""
-        obs = read_observation(observation)
+        obs = Observation.of(observation)
         self._update_heading(obs)
         self._update_ball(obs)
         self._update_teammates(obs)
@@ -327,24 +284,24 @@ class ScriptedPlayer:
 
     # ---- beliefs ------------------------------------------------------------------------
 
-    def _update_heading(self, obs: Observed) -> None:
+    def _update_heading(self, obs: Observation) -> None:
         """Integrate gyro z; reset to the kick-off heading in INITIAL and SET."""
-        if obs.state in (GameState.INITIAL, GameState.SET):
-            self._m.heading_rad = kickoff_heading(obs.defended_goal)
+        if obs.game.state in (GameState.INITIAL, GameState.SET):
+            self._m.heading_rad = kickoff_heading(obs.game.defended_goal)
         elif not obs.fallen and not (obs.motion is not None and obs.motion.is_stand_up):
-            self._m.heading_rad = normalize_angle(self._m.heading_rad + obs.gyro_z_radps * CONTROL_STEP_S)
+            self._m.heading_rad = normalize_angle(self._m.heading_rad + obs.gyro_radps[2] * CONTROL_STEP_S)
 
-    def _update_ball(self, obs: Observed) -> None:
+    def _update_ball(self, obs: Observation) -> None:
         self._m.ball_age += 1
-        if obs.camera is CameraChoice.OFF or obs.fallen or (obs.motion is not None and obs.motion.is_stand_up):
+        if obs.image is None or obs.fallen or (obs.motion is not None and obs.motion.is_stand_up):
             return
         percept = find_ball(obs.image, obs.head_yaw_rad, obs.head_pitch_rad, obs.camera.position)
         if percept is not None:
             self._m.ball, self._m.ball_age = percept, 0
             self._m.last_bearing_rad = percept.bearing_rad
 
-    def _update_teammates(self, obs: Observed) -> None:
-        for report in obs.reports:
+    def _update_teammates(self, obs: Observation) -> None:
+        for report in decode_reports(obs.packets, obs.player):
             self._m.teammates[report.player] = (report.ball_distance_m, self._m.step)
 
     def _known_ball(self) -> BallPercept | None:
@@ -358,19 +315,19 @@ class ScriptedPlayer:
                 return True
         return False
 
-    def _heading_error(self, obs: Observed) -> float:
-        return normalize_angle(kickoff_heading(obs.defended_goal) - self._m.heading_rad)
+    def _heading_error(self, obs: Observation) -> float:
+        return normalize_angle(kickoff_heading(obs.game.defended_goal) - self._m.heading_rad)
 
     # ---- decisions ----------------------------------------------------------------------
 
-    def _decide(self, obs: Observed) -> Command:
+    def _decide(self, obs: Observation) -> Command:
         if obs.motion is not None and obs.motion.is_stand_up:
             return Command(obs.motion, head=(0.0, 0.0))
         if obs.fallen:
-            motion = stand_up_for(obs.accelerometer_x_mps2)
+            motion = stand_up_for(obs.accelerometer_mps2[0])
             LOG.debug("%s: fallen, %s", self.agent, motion.value)
             return Command(motion, head=(0.0, 0.0))
-        if obs.state is not GameState.PLAYING:
+        if obs.game.state is not GameState.PLAYING:
             head = self._scan(IDLE_SCAN_RATE_RADPS)
             self._m.scan.reversals = 0  # idle sweeps do not count toward a search turn
             return Command(Motion.STAND, head=head)
@@ -382,7 +339,7 @@ class ScriptedPlayer:
             return self._goalkeeper(obs, ball, head)
         return self._field_player(obs, ball, head)
 
-    def _field_player(self, obs: Observed, ball: BallPercept | None, head: tuple[float, float]) -> Command:
+    def _field_player(self, obs: Observation, ball: BallPercept | None, head: tuple[float, float]) -> Command:
         if ball is None:
             if not self._search_turning():
                 return Command(Motion.STAND, head=head)
@@ -395,7 +352,7 @@ class ScriptedPlayer:
             LOG.debug("%s: %s, ball %.2f m at %.2f rad", self.agent, motion.value, ball.distance_m, ball.bearing_rad)
         return Command(motion, walk, head)
 
-    def _goalkeeper(self, obs: Observed, ball: BallPercept | None, head: tuple[float, float]) -> Command:
+    def _goalkeeper(self, obs: Observation, ball: BallPercept | None, head: tuple[float, float]) -> Command:
         if ball is None:
             return Command(Motion.STAND, head=head)
         motion, walk = keep_goal(ball, self._heading_error(obs))

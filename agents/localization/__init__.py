@@ -8,7 +8,7 @@ from agents.localization.circles import CircleCase, CircleIntersection, intersec
 from agents.localization.constraint import Candidate, ConstraintSolution, solve
 from agents.localization.disambiguation import corner_table, disambiguate, junction_table
 from agents.localization.errors import LocalizationConfigError, LocalizationError, LocalizationInputError
-from agents.localization.estimate import LandmarkObservation, PoseEstimate
+from agents.localization.estimate import EstimateSource, LandmarkObservation, PoseEstimate
 from agents.localization.hybrid import HybridLocalizer
 from agents.localization.localizers import LOCALIZERS, Localizer, OdometryLocalizer, localizer
 from agents.localization.odometry import Odometer, compose
@@ -21,6 +21,7 @@ __all__ = [
     "CircleCase",
     "CircleIntersection",
     "ConstraintSolution",
+    "EstimateSource",
     "HybridLocalizer",
     "LandmarkObservation",
     "LocalizationConfigError",

@@ -7,15 +7,20 @@ counter-clockwise positive in the torso frame.
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass
 
 from world.field import LandmarkId, Pose2D
 
 Covariance = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
 
-SOURCE_LANDMARKS = "landmarks"  # the scan's landmarks fixed the pose
-SOURCE_ODOMETER = "odometer"  # the odometer's pose, the scan did not (thesis 5.5)
-SOURCE_PARTICLES = "particles"  # the particle cloud's belief
+
+class EstimateSource(enum.StrEnum):
+    """What fixed a :class:`PoseEstimate` (compares and serializes as its plain value)."""
+
+    LANDMARKS = "landmarks"  # the scan's landmarks fixed the pose
+    ODOMETER = "odometer"  # the odometer's pose, the scan did not (thesis 5.5)
+    PARTICLES = "particles"  # the particle cloud's belief
 
 
 @dataclass(frozen=True)
@@ -35,11 +40,10 @@ class LandmarkObservation:
 
 @dataclass(frozen=True)
 class PoseEstimate:
-    """A localizer's answer for one scan.
+    """A localizer's answer for one scan: the robot's pose ``x_m``, ``y_m``, ``theta_rad`` in the field frame.
 
     ``method``: the localizer that produced it (``thesis``, ``particle``, ...);
-    ``source``: what fixed the pose (:data:`SOURCE_LANDMARKS`, :data:`SOURCE_ODOMETER`,
-    :data:`SOURCE_PARTICLES`); ``landmarks_used``: the landmarks the pose rests on;
+    ``source``: what fixed the pose; ``landmarks_used``: the landmarks the pose rests on;
     ``candidates``: field points (x, y) considered (thesis 5.3/5.4), empty when none;
     ``covariance``: 3x3 over (x m, y m, theta rad) when the method has one; ``reason``: why
     the odometer was used instead of the landmarks, empty otherwise.
@@ -49,7 +53,7 @@ class PoseEstimate:
     y_m: float
     theta_rad: float
     method: str
-    source: str
+    source: EstimateSource
     landmarks_used: tuple[LandmarkId, ...] = ()
     candidates: tuple[tuple[float, float], ...] = ()
     covariance: Covariance | None = None

@@ -19,7 +19,7 @@ from collections.abc import Callable, Sequence
 from typing import Protocol, runtime_checkable
 
 from agents.localization.errors import LocalizationConfigError
-from agents.localization.estimate import SOURCE_ODOMETER, PoseEstimate
+from agents.localization.estimate import EstimateSource, PoseEstimate
 from agents.localization.hybrid import HybridLocalizer
 from agents.localization.odometry import Odometer
 from agents.localization.particle import ParticleConfig, ParticleLocalizer
@@ -72,7 +72,7 @@ class OdometryLocalizer:
         pose = self.odometer.pose
         if not usable_percepts(percepts) or pose is None:
             return None
-        return PoseEstimate(pose.x, pose.y, pose.theta, self.name, SOURCE_ODOMETER)
+        return PoseEstimate(pose.x, pose.y, pose.theta, self.name, EstimateSource.ODOMETER)
 
 
 def _build_thesis(seed: int | None, initial_pose: Pose2D | None, **options: object) -> Localizer:

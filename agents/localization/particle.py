@@ -35,7 +35,7 @@ import numpy as np
 
 from agents.localization.constraint import FIELD_MARGIN_M, wrap
 from agents.localization.errors import LocalizationConfigError
-from agents.localization.estimate import SOURCE_LANDMARKS, SOURCE_PARTICLES, Covariance, PoseEstimate
+from agents.localization.estimate import Covariance, EstimateSource, PoseEstimate
 from agents.localization.measurement import MeasurementConfig, ScanLikelihood
 from agents.localization.odometry import compose
 from agents.localization.refine import refine
@@ -318,14 +318,14 @@ class ParticleLocalizer:
         self._clip_to_carpet()
         self._lost = False
 
-        pose, source, used = seed_pose, SOURCE_PARTICLES, ()
+        pose, source, used = seed_pose, EstimateSource.PARTICLES, ()
         if cfg.refine:
             polished = refine(scan, seed_pose)
             if polished is not None:
                 pose, covariance = polished.pose, polished.covariance
                 if prior is not None:
                     pose, covariance = fuse(prior, (pose, covariance))
-                source, used = SOURCE_LANDMARKS, polished.landmarks
+                source, used = EstimateSource.LANDMARKS, polished.landmarks
         self._pose = pose
         if n_inject:
             LOG.debug("injected %d of %d particles (per-percept likelihood %.3f)", n_inject, n, per_percept)

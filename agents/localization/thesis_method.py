@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from agents.localization.constraint import FIELD_MARGIN_M, ORIENTATIONS, ConstraintSolution, solve
 from agents.localization.disambiguation import CORNER_POST_MAX_ANGLE_RAD, disambiguate
 from agents.localization.errors import LocalizationConfigError
-from agents.localization.estimate import SOURCE_LANDMARKS, SOURCE_ODOMETER, PoseEstimate
+from agents.localization.estimate import EstimateSource, PoseEstimate
 from agents.localization.odometry import Odometer
 from agents.localization.validation import usable_percepts
 from agents.vision.percepts import LandmarkPercept
@@ -114,7 +114,7 @@ class ThesisLocalizer:
             best.y_m,
             best.theta_rad,
             self.name,
-            SOURCE_LANDMARKS,
+            EstimateSource.LANDMARKS,
             tuple(o.landmark_id for o in observations),
             points,
         )
@@ -123,4 +123,6 @@ class ThesisLocalizer:
         pose = self.odometer.pose
         if pose is None:
             return None
-        return PoseEstimate(pose.x, pose.y, pose.theta, self.name, SOURCE_ODOMETER, (), candidates, None, reason)
+        return PoseEstimate(
+            pose.x, pose.y, pose.theta, self.name, EstimateSource.ODOMETER, (), candidates, None, reason
+        )

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from agents.observation import Observation, ObservationError
 from agents.vision.errors import VisionInputError
-from match.protocol import CameraChoice
 from world.camera_model import NAO_CAMERA, CameraPosition
 
 IMAGE_SHAPE = (NAO_CAMERA.height_px, NAO_CAMERA.width_px, 3)
@@ -48,17 +50,12 @@ class CameraFrame:
                 raise VisionInputError(f"accelerometer_mps2 must be three finite numbers or None; got {accel!r}")
 
     @classmethod
-    def from_observation(cls, observation: dict) -> CameraFrame:
-        """The frame of an agent observation (:mod:`match.protocol.spaces`); its camera must be on."""
+    def from_observation(cls, observation: Observation | Mapping[str, Any]) -> CameraFrame:
+        """The frame of an agent observation (:class:`agents.observation.Observation`); its camera must be on."""
         try:
-            head = np.asarray(observation["head"], float).reshape(-1)
-            choice = CameraChoice(int(observation["camera"]))
-            image = observation["image"]
-            accel = tuple(float(a) for a in np.asarray(observation["accelerometer"], float).reshape(-1))
-        except (KeyError, TypeError, ValueError) as exc:
-            raise VisionInputError(f"observation lacks a usable image, head, camera or accelerometer: {exc}") from exc
-        if choice.position is None:
+            obs = Observation.of(observation)
+        except ObservationError as error:
+            raise VisionInputError(f"observation lacks a usable image, head, camera or accelerometer: {error}") from None
+        if obs.image is None or obs.camera_position is None:
             raise VisionInputError("the observation's camera is off: there is no image to process")
-        if head.shape != (2,):
-            raise VisionInputError(f"observation head must be (yaw, pitch); got {head.tolist()}")
-        return cls(image, float(head[0]), float(head[1]), choice.position, accel)
+        return cls(obs.image, obs.head_yaw_rad, obs.head_pitch_rad, obs.camera_position, obs.accelerometer_mps2)

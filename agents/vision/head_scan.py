@@ -16,6 +16,7 @@ the mean of their ground points.
 from __future__ import annotations
 
 import dataclasses
+import enum
 import logging
 import math
 from dataclasses import dataclass
@@ -42,13 +43,24 @@ FUSE_GATE_RELATIVE = 0.15
 CROSSBAR_MATCH_PX = 10.0  # a post in the tilted frame is the lone post if its column is this close
 
 
+class ScanPurpose(enum.StrEnum):
+    """What a frame of a scan is for."""
+
+    LANDMARKS = "scan"  # a frame of the sweep: its landmark percepts are kept
+    CROSSBAR = "crossbar"  # the head tilted up at a lone post's yaw: only the post's side is read
+
+
 @dataclass(frozen=True)
 class HeadTarget:
-    """Where the head should point for the next frame of a scan (rad; pitch positive down)."""
+    """Where the head should point for the next frame of a scan.
+
+    Head joint angles in rad: ``yaw_rad`` CCW positive from the torso's forward,
+    ``pitch_rad`` positive down.
+    """
 
     yaw_rad: float
     pitch_rad: float
-    purpose: str  # "scan" or "crossbar"
+    purpose: ScanPurpose
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,7 +89,7 @@ class HeadScan:
             raise VisionConfigError(f"scan pitch must be within {low:.3f}..{high:.3f} rad; got {pitch_rad}")
         self.pipeline = pipeline
         self.look_for_crossbars = look_for_crossbars
-        self._queue = [HeadTarget(y, pitch_rad, "scan") for y in yaws_rad]
+        self._queue = [HeadTarget(y, pitch_rad, ScanPurpose.LANDMARKS) for y in yaws_rad]
         self._frames: list[FrameResult] = []
         self._percepts: list[list[LandmarkPercept]] = []
         self._lone_posts: list[tuple[int, int, HeadTarget]] = []  # (frame, percept index, target)
@@ -104,7 +116,7 @@ class HeadScan:
             return False
         self._frames_at_target = 0
         self._queue.pop(0)
-        if target.purpose == "crossbar":
+        if target.purpose is ScanPurpose.CROSSBAR:
             self._resolve_sides(frame)
             return True
         result = self.pipeline.process(frame)
@@ -114,8 +126,8 @@ class HeadScan:
             for index, percept in enumerate(result.percepts):
                 if percept.kind is LandmarkKind.GOAL_POST and percept.post_side is PostSide.UNKNOWN:
                     self._lone_posts.append((len(self._percepts) - 1, index, target))
-                    if not any(t.purpose == "crossbar" and t.yaw_rad == target.yaw_rad for t in self._queue):
-                        self._queue.insert(0, HeadTarget(target.yaw_rad, CROSSBAR_PITCH_RAD, "crossbar"))
+                    if not any(t.purpose is ScanPurpose.CROSSBAR and t.yaw_rad == target.yaw_rad for t in self._queue):
+                        self._queue.insert(0, HeadTarget(target.yaw_rad, CROSSBAR_PITCH_RAD, ScanPurpose.CROSSBAR))
         return True
 
     def _resolve_sides(self, frame: CameraFrame) -> None:

@@ -9,6 +9,7 @@ from match.protocol.game_control import GameControlData, GameControlView, GameSt
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side, roster
 from match.protocol.kickoff import DEFENDING_POSITIONS, KICKING_POSITIONS, kickoff_pose
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
+from match.protocol.policy import Policy, PoseReporter, PoseTuple
 from match.protocol.spaces import MOTIONS, NO_MOTION, WALK_HIGH, WALK_LOW, CameraChoice, action_space, observation_space
 from world.field import GoalColor, Pose2D
 from world.motions import Displacement, Motion
@@ -38,6 +39,9 @@ __all__ = [
     "KickOff",
     "Motion",
     "PacketSpace",
+    "Policy",
+    "PoseReporter",
+    "PoseTuple",
     "Pose2D",
     "RadioPacketError",
     "SecondaryState",

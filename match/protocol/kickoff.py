@@ -12,15 +12,17 @@ import math
 
 from world.field import GoalColor, Pose2D
 
-# (x, y, theta) for the team defending the blue goal, by player number.
+GOALKEEPER_LINE_X_M = 2.85  # |x| (m) of a goalkeeper placed on its goal line, 0.15 m inside the 3 m line
+
+# (x m, y m, theta rad) for the team defending the blue goal, by player number.
 KICKING_POSITIONS: tuple[tuple[float, float, float], ...] = (
-    (-2.85, 0.0, 0.0),
+    (-GOALKEEPER_LINE_X_M, 0.0, 0.0),
     (-0.22, 0.0, 0.0),
     (-1.2, 1.0, 0.0),
     (-1.2, -1.0, 0.0),
 )
 DEFENDING_POSITIONS: tuple[tuple[float, float, float], ...] = (
-    (-2.85, 0.0, 0.0),
+    (-GOALKEEPER_LINE_X_M, 0.0, 0.0),
     (-1.0, 0.0, 0.0),
     (-1.6, 1.1, 0.0),
     (-1.6, -1.1, 0.0),
@@ -28,7 +30,7 @@ DEFENDING_POSITIONS: tuple[tuple[float, float, float], ...] = (
 
 
 def kickoff_pose(player: int, kicking: bool, defended_goal: GoalColor) -> Pose2D:
-    """Where ``player`` stands at a kick-off (field frame)."""
+    """Where ``player`` stands at a kick-off (field frame: m, rad); player 0 is the goalkeeper."""
     table = KICKING_POSITIONS if kicking else DEFENDING_POSITIONS
     if not 0 <= player < len(table):
         raise ValueError(f"player number {player!r} outside [0, {len(table) - 1}]")

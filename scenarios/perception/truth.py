@@ -22,7 +22,7 @@ import math
 import numpy as np
 import pybullet as pb
 
-from scenarios.perception_scoring import TrueLandmark
+from scenarios.perception.scoring import TrueLandmark
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import FIELD, LandmarkKind, Pose2D
 from world.world import World

@@ -4,12 +4,11 @@ Each benchmark is a named function in :data:`BENCHMARKS` that gets the number of
 repeats and returns flat metrics (``<name>_ms_median``, ``<name>_ms_p90``, ...); they are
 merged, with a description of the machine, into ``bench.json``. Add a benchmark by
 appending to :data:`BENCHMARKS`. Times are wall-clock (``time.perf_counter``), measured
-after a warm-up; quote medians (DESIGN.md section 6).
+after a warm-up; quote medians (docs/design.md section 6).
 """
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import os
@@ -22,7 +21,9 @@ from pathlib import Path
 import numpy as np
 import pybullet as pb
 
-from scenarios.world_demo import FORMATION, SCAN_PITCH_RAD, team_roster
+from agents.vision.head_scan import SCAN_PITCH_RAD
+from scenarios.common.io import write_json
+from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
 from world.motions import Motion
@@ -201,13 +202,13 @@ def bench_match(repeats: int) -> dict[str, float]:
     (``2 * repeats`` control steps from the kick-off)."""
     from match.game import Match
     from match.runner import run_match
-    from scenarios.match_run import default_policies, match_config
+    from scenarios.matches.play import Lineup, match_config
 
     config = match_config()
     config = replace(config, referee=replace(config.referee, **QUICK_START))
     match = Match(config)
     try:
-        summary = run_match(config, default_policies(match.agent_names), seed=0, progress=False,
+        summary = run_match(config, Lineup().policies(match.agents), seed=0, progress=False,
                             max_steps=2 * repeats, match=match)
     finally:
         match.close()
@@ -284,8 +285,7 @@ def run_bench(out_dir: Path, repeats: int = DEFAULT_REPEATS, benchmarks: Sequenc
         log.debug("benchmark %s: %s", benchmark.name, metrics)
         results.update(metrics)
     results["machine"] = machine_info()
-    path = out_dir / "bench.json"
-    path.write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
+    path = write_json(out_dir / "bench.json", results, allow_nan=True)
     log.info("wrote %s", path)
     return results
 

@@ -22,10 +22,20 @@ from pathlib import Path
 from tqdm import tqdm
 
 from match.runner import package_versions
-from scenarios.localization_run import LocalizationSample
-from scenarios.scenario_report import ScenarioReport, write_scenario_report
-from scenarios.scenario_run import RunOutcome, RunTask, run_tasks, simulate_run
-from scenarios.scenario_spec import ScenarioSpec
+from scenarios.common.io import write_text, write_text_atomic
+from scenarios.localization.figures import plot_errors, plot_traces
+from scenarios.localization.file import BUILTIN_SCENARIOS, load_scenario
+from scenarios.localization.run import RunOutcome, RunTask, run_tasks, simulate_run
+from scenarios.localization.samples import LocalizationSample
+from scenarios.localization.spec import ScenarioSpec
+from scenarios.localization.statistics import ScenarioReport
+from scenarios.localization.tables import (
+    write_combined_summary_json,
+    write_combined_table,
+    write_results_csv,
+    write_scenario_table,
+    write_summary_json,
+)
 
 log = logging.getLogger(__name__)
 
@@ -116,7 +126,7 @@ class RunStore:
         if not resume:
             for old in self.runs_dir.glob("run_*.json"):
                 old.unlink()
-        marker.write_text(json.dumps({"scenario": spec.name, "fingerprint": self.fingerprint}) + "\n", encoding="utf-8")
+        write_text(marker, json.dumps({"scenario": spec.name, "fingerprint": self.fingerprint}) + "\n")
 
     def load(self) -> dict[int, RunOutcome]:
         done = {}
@@ -142,10 +152,8 @@ class RunStore:
             "complete": outcome.complete,
             "samples": [dataclasses.asdict(s) for s in outcome.samples],
         }
-        path = self.runs_dir / f"run_{outcome.run:04d}.json"
-        temporary = path.with_suffix(".tmp")
-        temporary.write_text(json.dumps(data) + "\n", encoding="utf-8")  # NaN kept as NaN: Python's JSON reads it
-        os.replace(temporary, path)
+        # NaN kept as NaN: Python's JSON reads it
+        write_text_atomic(self.runs_dir / f"run_{outcome.run:04d}.json", json.dumps(data) + "\n")
 
 
 # ---- backends ----------------------------------------------------------------------------------
@@ -238,8 +246,6 @@ ALL = "all"
 
 def scenario_key(name_or_path: str) -> str:
     """The short name of a scenario in tables and directory names: "1" for a built-in, else the file stem."""
-    from scenarios.scenario_file import BUILTIN_SCENARIOS
-
     return name_or_path if name_or_path in BUILTIN_SCENARIOS else Path(name_or_path).stem
 
 
@@ -262,9 +268,6 @@ def run_named(names: Sequence[str], out_dir: Path, options: BatchOptions, **over
     One scenario writes into ``out_dir``; several write into ``out_dir/scenario_<key>`` each,
     and the combined table and figure into ``out_dir``.
     """
-    from scenarios.scenario_file import BUILTIN_SCENARIOS, load_scenario
-    from scenarios.scenario_report import write_combined_report
-
     expanded = [n for name in names for n in (BUILTIN_SCENARIOS if name == ALL else (name,))]
     specs = [(scenario_key(n), with_overrides(load_scenario(n), **overrides)) for n in expanded]
     keys = [k for k, _ in specs]
@@ -275,3 +278,31 @@ def run_named(names: Sequence[str], out_dir: Path, options: BatchOptions, **over
     reports = [run_scenario(spec, key, Path(out_dir) / f"scenario_{key}", options) for key, spec in specs]
     write_combined_report(out_dir, reports)
     return reports
+
+
+# ---- the report's files ------------------------------------------------------------------------
+
+
+def write_scenario_report(out_dir: Path, report: ScenarioReport) -> list[Path]:
+    """results.csv, summary.json, table.md, errors.png and traces.png of one scenario in ``out_dir``."""
+    out = Path(out_dir)
+    return [
+        write_results_csv(out / "results.csv", report),
+        write_summary_json(out / "summary.json", report),
+        write_scenario_table(out / "table.md", report),
+        plot_errors(out / "errors.png", [report]),
+        plot_traces(out / "traces.png", report),
+    ]
+
+
+def write_combined_report(out_dir: Path, reports: Sequence[ScenarioReport]) -> list[Path]:
+    """table.md, errors.png and summary.json (``{"scenarios": {key: summary}}``) of several scenarios."""
+    keys = [r.key for r in reports]
+    if len(set(keys)) != len(keys):
+        raise ValueError(f"scenario keys are not unique: {keys}")
+    out = Path(out_dir)
+    return [
+        write_combined_table(out / "table.md", reports),
+        plot_errors(out / "errors.png", reports),
+        write_combined_summary_json(out / "summary.json", reports),
+    ]

@@ -1,8 +1,8 @@
 """Scenario files: the TOML format of thesis chapter 6's scenarios and its strict loader.
 
 A scenario file names the robots, which of them are measured, the localization methods
-and how many samples to take. ``scenario_1.toml`` .. ``scenario_3.toml`` next to this
-module are the built-in scenarios and, commented, the format's documentation.
+and how many samples to take. ``scenario_1.toml`` .. ``scenario_3.toml`` in the
+:mod:`scenarios` package are the built-in scenarios and, commented, the format's documentation.
 :func:`load_scenario` reads a built-in name or a path; :func:`parse_scenario` validates
 already-parsed data. Every mistake is a :class:`ScenarioFileError` naming the file, the
 key, what was expected and what was found; unknown keys are mistakes too.
@@ -17,9 +17,10 @@ from pathlib import Path
 from typing import NoReturn
 
 from agents.localization import LOCALIZERS
+from agents.policies import PolicyNameError, known_policies, policy_factory
 from agents.vision.camera_models import CAMERA_MODELS
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
-from scenarios.scenario_spec import Policy, RobotEntry, ScenarioSpec, ThesisReference
+from scenarios.localization.spec import MEASURABLE_POLICIES, RobotEntry, ScenarioSpec, ThesisReference
 from world.field import FIELD, Pose2D
 
 log = logging.getLogger(__name__)
@@ -78,7 +79,7 @@ def builtin_path(name: str) -> Path:
     """The file of the built-in scenario ``name`` (one of :data:`BUILTIN_SCENARIOS`)."""
     if name not in BUILTIN_SCENARIOS:
         raise ValueError(f"built-in scenario {name!r} is not one of {', '.join(BUILTIN_SCENARIOS)}")
-    return Path(__file__).parent / f"scenario_{name}.toml"
+    return Path(__file__).parents[1] / f"scenario_{name}.toml"  # package data of scenarios
 
 
 def load_scenario(name_or_path: str | Path) -> ScenarioSpec:
@@ -275,12 +276,15 @@ def _robot(table: _Table, referee: bool) -> RobotEntry:
         agent = AgentId.parse(raw_id)
     except ValueError as exc:
         raise ScenarioFileError(table.path, f"{table.prefix}id", _ID_TEXT, raw_id) from exc
-    policy = Policy(table.string("policy", choices=tuple(p.value for p in Policy)))
+    policy = table.string("policy")
+    try:
+        policy_factory(policy)
+    except PolicyNameError as error:
+        table.fail("policy", f"{known_policies()} [{error}]", policy)
     measured = table.boolean("measured", default=False)
-    if not referee and policy not in (Policy.SCAN_LOCALIZE, Policy.STAND):
-        table.fail("policy", "scan_localize or stand: without the referee there is no ball and no game", policy.value)
-    if measured and policy is not Policy.SCAN_LOCALIZE:
-        table.fail("measured", "measured = true only with policy = 'scan_localize'", measured)
+    if measured and policy not in MEASURABLE_POLICIES:
+        table.fail("measured", f"measured = true only with policy = {' or '.join(map(repr, MEASURABLE_POLICIES))}",
+                   measured)
     start = None
     if table.has("start"):
         if referee:

@@ -17,6 +17,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from agents.vision.head_scan import SCAN_PITCH_RAD
 from world.camera_model import NAO_HEAD, CameraPosition
 from world.config import RobotSpec
 from world.field import Pose2D
@@ -25,9 +26,6 @@ from world.robot_model import TeamColor
 from world.world import World
 
 log = logging.getLogger(__name__)
-
-SCAN_PITCH_RAD = math.radians(17.0)
-"""Head pitch of the thesis' scan (positive looks down)."""
 
 CAMERA_SCALE = 4
 """Robot camera frames are enlarged this many times with nearest-neighbour, 160x120 -> 640x480."""

@@ -7,8 +7,8 @@ five scan yaws -80, -40, 0, 40, 80 degrees, thesis 5.1), with ``crowd`` other ro
 teams standing uniformly on the field, at least ``MIN_SEPARATION_M`` from it and from each
 other, heading anywhere. Robots not in the crowd, and the ball, wait off the carpet. After
 a random settle time (``SETTLE_STEPS``) the camera frame is rendered, every camera model's pipeline
-processes it, and its percepts are scored (:mod:`scenarios.perception_scoring`) against the
-true landmarks (:mod:`scenarios.perception_truth`).
+processes it, and its percepts are scored (:mod:`scenarios.perception.scoring`) against the
+true landmarks (:mod:`scenarios.perception.truth`).
 """
 
 from __future__ import annotations
@@ -17,20 +17,28 @@ import logging
 import math
 import platform
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pybullet as pb
 from tqdm import tqdm
 
-from agents.vision.camera_models import CAMERA_MODELS, DEFAULT_CAMERA_MODEL, level_rotation
+from agents.vision.camera_models import DEFAULT_CAMERA_MODEL, level_rotation
 from agents.vision.frame import CameraFrame
+from agents.vision.head_scan import SCAN_PITCH_RAD
 from agents.vision.overlay import save_overlay
 from agents.vision.pipeline import VisionPipeline
-from scenarios import perception_report as report
-from scenarios.perception_scoring import FrameScore, TrueLandmark, has_error, kind_statistics, match_frame
-from scenarios.perception_truth import project_landmarks, true_landmarks
+from scenarios.perception import report
+from scenarios.perception.records import (
+    CROWD_ORDER,
+    SETTLE_STEPS,
+    FrameRecord,
+    FrameSetup,
+    PerceptionConfig,
+    PerceptionConfigError,
+)
+from scenarios.perception.scoring import FrameScore, has_error, kind_statistics, match_frame
+from scenarios.perception.truth import project_landmarks, true_landmarks
 from world.camera_model import CameraPosition
 from world.config import RobotSpec
 from world.field import FIELD, LandmarkKind, Pose2D
@@ -40,78 +48,12 @@ from world.world import World
 log = logging.getLogger(__name__)
 
 MEASURED = "home_1"
-CROWD_ORDER: tuple[str, ...] = ("away_0", "home_2", "away_1", "home_3", "away_2", "home_0", "away_3")
-MAX_CROWD = len(CROWD_ORDER)
 SCAN_YAWS_DEG: tuple[float, ...] = (-80.0, -40.0, 0.0, 40.0, 80.0)  # thesis 5.1: five frames per scan
-SCAN_PITCH_DEG = 17.0
-SETTLE_STEPS = (15, 40)  # control steps before the frame, drawn uniformly per frame. Measured: the head is
-# on target after 1 step, the body tilt within ~8; the accelerometer of a robot standing still keeps
-# jittering (up to ~7 deg of apparent tilt), so a random settle time samples that jitter fairly
-FALSE_TILT_DEG = 2.0  # a frame whose accelerometer tilt differs from the true tilt by more is counted
+SCAN_PITCH_DEG = math.degrees(SCAN_PITCH_RAD)  # 17.0
 MIN_SEPARATION_M = 0.5
 MIN_POST_CLEARANCE_M = 0.3  # no robot is placed into a goal post
 PARKING_Y_M = -(FIELD.carpet_half_width + 0.8)  # off the carpet: never between a camera and a landmark
 MAX_PLACEMENT_TRIES = 10_000
-
-
-class PerceptionConfigError(ValueError):
-    """A perception run asked for something impossible (the message names the value)."""
-
-
-@dataclass(frozen=True)
-class PerceptionConfig:
-    frames: int
-    seed: int = 0
-    crowd: int = 0
-    models: tuple[str, ...] = ("exact", "thesis")
-    max_range_m: float = 4.0
-    progress: bool = True
-    examples: int = 6  # annotated PNGs of frames where the first model erred (false positives first)
-    command: str = ""  # the command line, quoted in table.md
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.frames, int) or self.frames < 1:
-            raise PerceptionConfigError(f"frames must be an integer >= 1; got {self.frames!r}")
-        if not isinstance(self.crowd, int) or not 0 <= self.crowd <= MAX_CROWD:
-            raise PerceptionConfigError(f"crowd must be an integer in 0..{MAX_CROWD}; got {self.crowd!r}")
-        unknown = [m for m in self.models if m not in CAMERA_MODELS]
-        if not self.models or unknown or len(set(self.models)) != len(self.models):
-            raise PerceptionConfigError(
-                f"models must be distinct names among {sorted(CAMERA_MODELS)}; got {list(self.models)}"
-            )
-        if not (isinstance(self.max_range_m, (int, float)) and 0 < self.max_range_m < math.inf):
-            raise PerceptionConfigError(f"max_range_m must be a positive finite number; got {self.max_range_m!r}")
-        if not isinstance(self.examples, int) or self.examples < 0:
-            raise PerceptionConfigError(f"examples must be an integer >= 0; got {self.examples!r}")
-
-
-@dataclass(frozen=True)
-class FrameSetup:
-    """Where one frame is taken: the measured robot's pose and head yaw, the crowd's poses."""
-
-    pose: Pose2D
-    head_yaw_rad: float
-    crowd: tuple[Pose2D, ...] = ()
-    settle_steps: int = SETTLE_STEPS[0]
-
-
-@dataclass(frozen=True)
-class FrameRecord:
-    """One processed frame: its setup, its truth and, per model, its score and pipeline time."""
-
-    index: int
-    setup: FrameSetup
-    robot_pose: Pose2D  # true pose after settling
-    truths: tuple[TrueLandmark, ...]
-    scores: dict[str, FrameScore] = field(default_factory=dict)
-    process_ms: dict[str, float] = field(default_factory=dict)
-    fallen: bool = False
-    true_tilt_deg: float = 0.0
-    applied_tilt_deg: float = 0.0  # the body tilt the exact camera model took from the accelerometer
-
-    @property
-    def false_tilt(self) -> bool:
-        return abs(self.applied_tilt_deg - self.true_tilt_deg) > FALSE_TILT_DEG
 
 
 def roster() -> list[RobotSpec]:
@@ -153,7 +95,7 @@ def stage_frame(world: World, setup: FrameSetup) -> None:
     """Put the robots of ``setup`` in place and let them settle."""
     world.place_robot(MEASURED, setup.pose)
     world.set_camera(MEASURED, CameraPosition.TOP)
-    world.set_head(MEASURED, setup.head_yaw_rad, math.radians(SCAN_PITCH_DEG))
+    world.set_head(MEASURED, setup.head_yaw_rad, SCAN_PITCH_RAD)
     for robot_id, pose in zip(CROWD_ORDER, setup.crowd):
         world.place_robot(robot_id, pose)
     world.step(setup.settle_steps)

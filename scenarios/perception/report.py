@@ -6,23 +6,20 @@ the Markdown table shows centimetres and degrees.
 
 from __future__ import annotations
 
-import csv
-import json
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
 
-from scenarios.perception_scoring import GATE_FRACTION, KINDS, MAX_GATE_M, MIN_GATE_M
-from scenarios.perception_truth import CIRCLE_MIN_FRACTION, CIRCLE_SAMPLES, RAY_TARGET_HEIGHT_M
-
-if TYPE_CHECKING:
-    from scenarios.perception_run import FrameRecord, PerceptionConfig
+from scenarios.common.io import write_csv, write_json, write_text
+from scenarios.common.plotting import plt, save_figure
+from scenarios.perception.records import FrameRecord, PerceptionConfig
+from scenarios.perception.scoring import GATE_FRACTION, KINDS, MAX_GATE_M, MIN_GATE_M
+from scenarios.perception.truth import CIRCLE_MIN_FRACTION, CIRCLE_SAMPLES, RAY_TARGET_HEIGHT_M
 
 log = logging.getLogger(__name__)
 
@@ -78,8 +75,8 @@ def write_outputs(
 ) -> list[Path]:
     """Write every output file into ``out_dir``; return their paths."""
     paths = [
-        _write_json(out_dir / "summary.json", summary),
-        _write_text(out_dir / "table.md", format_tables(summary, config.command)),
+        write_json(out_dir / "summary.json", summary),
+        write_text(out_dir / "table.md", format_tables(summary, config.command)),
         write_detections_csv(out_dir / "detections.csv", records, config.models),
         write_visible_csv(out_dir / "visible.csv", records, config.models),
         plot_errors(out_dir / "errors_vs_distance.png", records, config.models, config.max_range_m),
@@ -87,16 +84,6 @@ def write_outputs(
     for example in examples:
         paths.append(write_example(out_dir / "examples" / f"frame_{example.frame:04d}_{example.model}.png", example))
     return paths
-
-
-def _write_json(path: Path, data: dict) -> Path:
-    path.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
-    return path
-
-
-def _write_text(path: Path, text: str) -> Path:
-    path.write_text(text)
-    return path
 
 
 def _fmt(value: float | None, scale: float = 1.0, digits: int = 1) -> str:
@@ -144,53 +131,47 @@ DETECTION_COLUMNS = (
 )
 
 
+def _detection_rows(records: Sequence[FrameRecord], models: Sequence[str]) -> Iterator[list]:
+    for record in records:
+        pose = record.robot_pose
+        for model in models:
+            for s in record.scores[model].percepts:
+                p, t = s.percept, s.truth
+                yield [
+                    record.index, model, p.kind.value, p.landmark_id.value if p.landmark_id else "",
+                    p.goal.value if p.goal else "", p.post_side.value if p.post_side else "", int(s.matched),
+                    t.landmark.id.value if t else "", _num(p.pixel[0]), _num(p.pixel[1]),
+                    _num(p.distance_m), _num(t.distance_m if t else math.nan), _num(s.distance_error_m),
+                    _num(s.distance_error_rel), _num(math.degrees(p.bearing_rad)),
+                    _num(math.degrees(t.bearing_rad) if t else math.nan), _num(math.degrees(s.bearing_error_rad)),
+                    _num(pose.x), _num(pose.y), _num(math.degrees(pose.theta)),
+                    _num(math.degrees(record.setup.head_yaw_rad)), _num(record.true_tilt_deg),
+                    _num(record.applied_tilt_deg),
+                ]
+
+
 def write_detections_csv(path: Path, records: Sequence[FrameRecord], models: Sequence[str]) -> Path:
     """One row per percept, per frame and model, with its match and errors."""
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(DETECTION_COLUMNS)
-        for record in records:
-            pose = record.robot_pose
-            for model in models:
-                for s in record.scores[model].percepts:
-                    p, t = s.percept, s.truth
-                    writer.writerow([
-                        record.index, model, p.kind.value, p.landmark_id.value if p.landmark_id else "",
-                        p.goal.value if p.goal else "", p.post_side.value if p.post_side else "", int(s.matched),
-                        t.landmark.id.value if t else "", _num(p.pixel[0]), _num(p.pixel[1]),
-                        _num(p.distance_m), _num(t.distance_m if t else math.nan), _num(s.distance_error_m),
-                        _num(s.distance_error_rel), _num(math.degrees(p.bearing_rad)),
-                        _num(math.degrees(t.bearing_rad) if t else math.nan), _num(math.degrees(s.bearing_error_rad)),
-                        _num(pose.x), _num(pose.y), _num(math.degrees(pose.theta)),
-                        _num(math.degrees(record.setup.head_yaw_rad)), _num(record.true_tilt_deg),
-                        _num(record.applied_tilt_deg),
-                    ])
-    return path
+    return write_csv(path, DETECTION_COLUMNS, _detection_rows(records, models))
+
+
+def _visible_rows(records: Sequence[FrameRecord], models: Sequence[str]) -> Iterator[list]:
+    for record in records:
+        matched = {m: record.scores[m].matched_ids() for m in models}
+        for t in record.truths:
+            if t.visible:
+                yield [record.index, t.landmark.id.value, t.landmark.kind.value, _num(t.distance_m),
+                       _num(math.degrees(t.bearing_rad)), *(int(t.landmark.id in matched[m]) for m in models)]
 
 
 def write_visible_csv(path: Path, records: Sequence[FrameRecord], models: Sequence[str]) -> Path:
     """One row per visible landmark per frame, with whether each model found it (for recall by distance)."""
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(["frame", "landmark_id", "kind", "true_distance_m", "true_bearing_deg",
-                         *(f"found_{m}" for m in models)])
-        for record in records:
-            matched = {m: record.scores[m].matched_ids() for m in models}
-            for t in record.truths:
-                if t.visible:
-                    writer.writerow([record.index, t.landmark.id.value, t.landmark.kind.value, _num(t.distance_m),
-                                     _num(math.degrees(t.bearing_rad)),
-                                     *(int(t.landmark.id in matched[m]) for m in models)])
-    return path
+    header = ["frame", "landmark_id", "kind", "true_distance_m", "true_bearing_deg", *(f"found_{m}" for m in models)]
+    return write_csv(path, header, _visible_rows(records, models))
 
 
 def plot_errors(path: Path, records: Sequence[FrameRecord], models: Sequence[str], max_range_m: float) -> Path:
     """Relative distance error and bearing error against true distance, per kind (colour) and model (column)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, axes = plt.subplots(2, len(models), figsize=(5.5 * len(models), 7), squeeze=False, sharex=True,
                              sharey="row")
     for col, model in enumerate(models):
@@ -211,9 +192,7 @@ def plot_errors(path: Path, records: Sequence[FrameRecord], models: Sequence[str
         if axes[0, col].get_legend_handles_labels()[0]:
             axes[0, col].legend(fontsize=8, markerscale=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, 100)
 
 
 def write_example(path: Path, example: Example) -> Path:

@@ -26,7 +26,6 @@ correct label, as unfitted pixels become white).
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import time
@@ -37,7 +36,9 @@ from pathlib import Path
 import numpy as np
 
 from agents.vision.colors import PRIORITY, UNFITTED, ColorClass
+from agents.vision.head_scan import SCAN_PITCH_RAD
 from agents.vision.segmentation import LEVEL_SHIFT, ColorBox, ColorTable, ColorThresholds
+from scenarios.common.io import write_json
 from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RobotSpec
@@ -68,8 +69,6 @@ DEFAULT_FRAMES = 100
 ROBOTS_PER_TEAM = 3
 SETTLE_STEPS = 5
 """Control steps after placing everything: the robots stand and the head reaches its angles."""
-SCAN_PITCH_RAD = math.radians(17.0)
-"""The thesis' scanning head pitch (positive looks down)."""
 HOLDOUT_SEED_OFFSET = 1_000_003
 """Held-out frames are rendered from ``seed + HOLDOUT_SEED_OFFSET``."""
 
@@ -337,9 +336,7 @@ def write_calibration(result: CalibrationResult, path: Path) -> tuple[Path, Path
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     result.thresholds.save(path)
-    report = report_path(path)
-    report.write_text(json.dumps(result.to_json(), indent=2) + "\n")
-    return path, report
+    return path, write_json(report_path(path), result.to_json(), allow_nan=True)
 
 
 def format_scores(result: CalibrationResult) -> str:

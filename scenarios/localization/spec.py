@@ -1,8 +1,8 @@
 """What a scenario file describes (thesis chapter 6): the robots, who is measured, the methods.
 
-Plain frozen data, built by :func:`scenarios.scenario_file.load_scenario` from a TOML
-file and used by the runner (:mod:`scenarios.scenario_run`) and the report
-(:mod:`scenarios.scenario_report`). Units: metres, seconds, radians inside; the file
+Plain frozen data, built by :func:`scenarios.localization.file.load_scenario` from a TOML
+file and used by the runner (:mod:`scenarios.localization.run`) and the report
+(:mod:`scenarios.localization.statistics`). Units: metres, seconds, radians inside; the file
 gives start headings in degrees (``theta_deg``) and the thesis' figures in cm and degrees.
 """
 
@@ -19,12 +19,7 @@ import numpy as np
 from world.field import Pose2D
 
 
-class Policy(enum.Enum):
-    """What drives a robot of a scenario."""
-
-    SCAN_LOCALIZE = "scan_localize"  # the measured cycle: motion, five-frame scan, localization
-    SCRIPTED = "scripted"  # the built-in scripted player: keeper as player 0, ball chaser otherwise
-    STAND = "stand"  # stands still where it was placed
+MEASURABLE_POLICIES = ("scan_localize",)  # policies that record localization events (``.events``)
 
 
 @dataclass(frozen=True)
@@ -46,7 +41,7 @@ class RobotEntry:
     """
 
     id: str
-    policy: Policy
+    policy: str  # a policy name: built in (see agents.policies) or package.module:ClassName
     measured: bool = False
     start: Pose2D | None = None
 

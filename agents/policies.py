@@ -1,0 +1,75 @@
+"""Policies by name: the built-in ones, and the user's by import path ``package.module:ClassName``.
+
+Every command and scenario file chooses policies through :func:`policy_factory`, so a bad
+name is refused the same way everywhere, before anything runs, with the known names listed.
+A policy class is called with keyword options only (none for a plain choice by name) and
+must provide ``reset(agent_id, seed)`` and ``act(observation)``
+(:class:`match.protocol.policy.Policy`).
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from collections.abc import Callable
+from typing import Any
+
+from agents.behavior.scan_localize import ScanLocalizeAgent
+from agents.behavior.scripted import ScriptedPlayer
+from agents.behavior.stand import StandPolicy
+from match.protocol import Policy
+
+PolicyFactory = Callable[..., Policy]
+
+# name -> (factory, one line for listings)
+BUILTIN_POLICIES: dict[str, tuple[PolicyFactory, str]] = {
+    "scripted": (ScriptedPlayer, "ball chaser by its camera and gyro; keeper as player 0; no localization"),
+    "scan_localize": (ScanLocalizeAgent, "thesis chapter 6 cycle: a motion, a five-frame head scan, a localization"),
+    "stand": (StandPolicy, "stands still, camera off"),
+}
+DEFAULT_POLICY = "scripted"
+_IMPORT_PATH = re.compile(r"^[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*:[A-Za-z_][\w]*$")
+
+
+class PolicyNameError(ValueError):
+    """A policy name that is neither built in nor an importable ``package.module:ClassName``."""
+
+
+def known_policies() -> str:
+    """The built-in names and the import-path form, for messages."""
+    return ", ".join(BUILTIN_POLICIES) + ", or package.module:ClassName"
+
+
+def policy_factory(name: str) -> PolicyFactory:
+    """The class (or factory) a policy name stands for; :class:`PolicyNameError` if there is none."""
+    if not isinstance(name, str):
+        raise PolicyNameError(f"policy name {name!r}; expected a string: {known_policies()}")
+    if name in BUILTIN_POLICIES:
+        return BUILTIN_POLICIES[name][0]
+    if not _IMPORT_PATH.match(name):
+        raise PolicyNameError(f"unknown policy {name!r}; expected {known_policies()}")
+    module_name, _, attribute = name.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as error:
+        raise PolicyNameError(f"policy {name!r}: cannot import module {module_name!r} ({error})") from None
+    factory = getattr(module, attribute, None)
+    if factory is None or not callable(factory):
+        raise PolicyNameError(f"policy {name!r}: module {module_name!r} has no class or function {attribute!r}")
+    for method in ("reset", "act"):
+        if isinstance(factory, type) and not callable(getattr(factory, method, None)):
+            raise PolicyNameError(f"policy {name!r}: {attribute} has no {method}() method; "
+                                  "a policy needs reset(agent_id, seed) and act(observation)")
+    return factory
+
+
+def make_policy(name: str, **options: Any) -> Policy:
+    """A new policy of that name, built with ``options`` (keyword arguments of its class)."""
+    factory = policy_factory(name)
+    try:
+        policy = factory(**options)
+    except TypeError as error:
+        raise PolicyNameError(f"policy {name!r} cannot be built with options {sorted(options)}: {error}") from None
+    if not isinstance(policy, Policy):
+        raise PolicyNameError(f"policy {name!r} built a {type(policy).__name__}, which lacks reset() or act()")
+    return policy

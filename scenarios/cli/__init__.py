@@ -1,0 +1,67 @@
+"""The ``robotstadium`` command line.
+
+Each subcommand is one module of this package: its ``NAME``, ``HELP`` and ``DESCRIPTION``,
+``add_arguments(parser)``, which declares its arguments, and ``run(args)``, which runs it
+and returns an exit code; register the module in :data:`SUBCOMMANDS`. Argument types,
+common arguments and exit codes shared by subcommands are in :mod:`scenarios.cli.arguments`.
+Errors of the library (a :class:`~world.errors.WorldError` or a ``ValueError`` from a bad
+argument) end the command with a one-line message on stderr and exit code 2, without a
+traceback; a file that cannot be written ends it the same way with exit code 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from collections.abc import Sequence
+from types import ModuleType
+
+from match.errors import MatchError
+from scenarios.cli import bench, calibrate_colors, localize, match, perception, scenario, world_demo
+from scenarios.cli.arguments import (
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_USAGE,
+    Handler,
+    add_subparser,
+    verbose_flag,
+)
+from world.errors import WorldError
+
+__all__ = ["EXIT_FAILED", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_USAGE", "SUBCOMMANDS", "build_parser", "main"]
+
+SUBCOMMANDS: tuple[ModuleType, ...] = (world_demo, bench, match, calibrate_colors, perception, localize, scenario)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="robotstadium", description="Simulate RobotStadium robot-soccer matches in PyBullet."
+    )
+    verbose_flag(parser, False)
+    subparsers = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for command in SUBCOMMANDS:
+        sub = add_subparser(subparsers, command.NAME, help=command.HELP, description=command.DESCRIPTION)
+        command.add_arguments(sub)
+        sub.set_defaults(handler=command.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; return the exit code (argparse exits with 2 on usage errors)."""
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(
+        level=logging.DEBUG if args.verbose else logging.INFO,
+        format="%(levelname)s %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
+    handler: Handler = args.handler
+    try:
+        return handler(args)
+    except (WorldError, MatchError, ValueError) as error:
+        print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as error:
+        print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
+        return EXIT_FAILED

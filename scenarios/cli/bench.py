@@ -1,0 +1,41 @@
+"""``robotstadium bench``: rendering and physics costs, written to bench.json."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scenarios.cli.arguments import EXIT_OK, add_out_dir, positive_int
+from scenarios.tools.bench import DEFAULT_REPEATS, QUICK_REPEATS, format_table, run_bench
+
+NAME = "bench"
+HELP = "measure rendering and physics costs, write bench.json"
+DESCRIPTION = (
+    "Time one 160x120 robot camera frame and one 40 ms control step of 8 walking robots; "
+    "print a table and write DIR/bench.json (medians and 90th percentiles in ms, machine details)."
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_out_dir(parser)
+    repeats = parser.add_mutually_exclusive_group()
+    repeats.add_argument(
+        "--repeats",
+        type=positive_int,
+        default=DEFAULT_REPEATS,
+        help=f"timed repeats per benchmark (default {DEFAULT_REPEATS})",
+    )
+    repeats.add_argument(
+        "--quick",
+        action="store_const",
+        dest="repeats",
+        const=QUICK_REPEATS,
+        help=f"a quick run: {QUICK_REPEATS} repeats",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    results = run_bench(args.out, repeats=args.repeats)
+    print(format_table(results))
+    print(Path(args.out) / "bench.json")
+    return EXIT_OK

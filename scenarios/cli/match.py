@@ -1,0 +1,56 @@
+"""``robotstadium match``: a full match, headless, between policies chosen by name."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scenarios.cli.arguments import EXIT_OK, policy_name, policy_override, positive_float, positive_int
+
+NAME = "match"
+HELP = "run a full match headless between policies chosen by name"
+DESCRIPTION = (
+    "Play a match (two halves, kick-offs, goals, throw-ins, half-time, penalty shoot-out on a tie) "
+    "and write summary.json, events.jsonl and match_log.npz into --out. A policy is a built-in name "
+    "(scripted, scan_localize, stand) or a class of yours as package.module:ClassName."
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--home", type=policy_name, default="scripted", metavar="POLICY",
+                        help="the home team's policy (default scripted)")
+    parser.add_argument("--away", type=policy_name, default="scripted", metavar="POLICY",
+                        help="the away team's policy (default scripted)")
+    parser.add_argument("--policy", type=policy_override, action="append", default=[], metavar="AGENT=POLICY",
+                        help="one robot's policy, e.g. home_2=mypkg.mod:Striker (repeatable)")
+    parser.add_argument("--home-players", type=positive_int, default=4, metavar="N", help="home players, 1-4 (default 4)")
+    parser.add_argument("--away-players", type=positive_int, default=4, metavar="N", help="away players, 1-4 (default 4)")
+    parser.add_argument("--half-seconds", type=positive_float, default=600.0, metavar="S",
+                        help="playing time of each half in simulated seconds (default 600)")
+    parser.add_argument("--seed", type=int, default=0, help="match seed (default 0)")
+    parser.add_argument("--out", type=Path, default=Path("out/match"), metavar="DIR", help="output directory (default out/match)")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
+                        help="decide a tie by penalty shoot-out (default: yes)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from scenarios.matches.play import Lineup, run_lineup_match
+
+    robots = [robot for robot, _ in args.policy]
+    twice = sorted({robot for robot in robots if robots.count(robot) > 1})
+    if twice:
+        raise ValueError(f"--policy names {', '.join(twice)} more than once")
+    lineup = Lineup(args.home, args.away, dict(args.policy))
+    summary = run_lineup_match(
+        args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
+        seed=args.seed, shootout=args.shootout, progress=args.progress,
+    )
+    score = summary.score
+    result = f"home {score['home']} - {score['away']} away"
+    if summary.shootout:
+        result += f" (shoot-out {summary.shootout['home']}-{summary.shootout['away']})"
+    print(f"{result}; {summary.sim_seconds:.0f} s simulated in {summary.wall_seconds:.0f} s "
+          f"({summary.real_time_factor:.2f}x real time)")
+    print(Path(args.out) / "summary.json")
+    return EXIT_OK

@@ -1,0 +1,64 @@
+"""``robotstadium scenario``: thesis chapter 6's scenarios (or a scenario file), their statistics and figures."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from scenarios.cli.arguments import (
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    add_no_progress,
+    add_out_dir,
+    localizer_names,
+    name_list,
+    positive_int,
+)
+
+NAME = "scenario"
+HELP = "thesis chapter 6: run scenarios 1-3 (or a scenario file) and write their localization statistics"
+DESCRIPTION = (
+    "Run a scenario's independent runs (built-in 1, 2, 3, 'all', or a path to a TOML scenario "
+    "file) and write results.csv, summary.json, table.md (thesis Tables 6.1/6.2 with the thesis' values), "
+    "errors.png (thesis figure 6.15) and traces.png into --out. Every method of the scenario localizes on the "
+    "same percepts and motions. Finished runs are kept in --out/runs; --resume continues an interrupted batch."
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scenarios", nargs="+", metavar="SCENARIO", help="1, 2, 3, all, or a scenario file")
+    parser.add_argument("--samples", type=positive_int, default=None, metavar="N",
+                        help="localization events per method (default: the scenario file's)")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the runs (default: the scenario file's)")
+    parser.add_argument("--methods", type=name_list(localizer_names), default=None, metavar="M1,M2",
+                        help="localization methods, comma-separated (default: the scenario file's)")
+    parser.add_argument("--workers", type=positive_int, default=None, metavar="W",
+                        help="runs at once, in local processes or Ray CPUs (default: all cores)")
+    add_out_dir(parser, Path("out/scenarios"))
+    parser.add_argument("--backend", choices=("local", "ray"), default="local",
+                        help="local processes (default) or Ray tasks (needs the ray extra)")
+    parser.add_argument("--ray-address", default=None, metavar="ADDRESS",
+                        help="Ray cluster to join (default: start a local Ray instance)")
+    parser.add_argument("--resume", action="store_true", help="keep the finished runs in --out and run the rest")
+    add_no_progress(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    # the simulation, the report's matplotlib and scipy: only when run
+    from scenarios.localization.batch import BatchOptions, default_workers, run_named
+    from scenarios.localization.tables import table_markdown
+
+    options = BatchOptions(args.workers or default_workers(), args.backend, args.ray_address, args.resume,
+                           args.progress)
+    try:
+        reports = run_named(args.scenarios, args.out, options, samples=args.samples, seed=args.seed,
+                            methods=args.methods)
+    except KeyboardInterrupt:
+        print(f"robotstadium scenario: interrupted; finished runs are kept in {args.out}: "
+              "run again with --resume to continue", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(table_markdown(reports))
+    wall = sum(r.wall_seconds for r in reports)
+    print(f"{sum(len(r.samples) for r in reports)} result rows, {wall:.0f} s wall; written to {args.out}")
+    return EXIT_OK

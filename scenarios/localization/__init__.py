@@ -1,0 +1,1 @@
+"""Thesis chapter 6: localization scenarios, their runs and batches, statistics, tables and figures."""

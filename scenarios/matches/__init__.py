@@ -1,0 +1,1 @@
+"""Full matches with the built-in team policies."""

@@ -1,0 +1,82 @@
+"""A match between policies chosen by name: the glue of ``robotstadium match`` and the benchmark.
+
+A team plays one policy name (``--home``/``--away``); single robots can play another
+(``--policy home_2=NAME``). Names are those of :mod:`agents.policies`: built in, or
+``package.module:ClassName``. Every name is resolved before anything is built or written.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from agents.policies import DEFAULT_POLICY, make_policy, policy_factory
+from match.game import Match, MatchConfig
+from match.protocol import Policy
+from match.protocol.ids import AgentId, Side, roster
+from match.runner import MatchSummary, run_match
+
+
+class LineupError(ValueError):
+    """A line-up that names an unknown policy, or a robot that is not on the field."""
+
+
+@dataclass(frozen=True)
+class Lineup:
+    """Who plays: a policy name per team and per-robot overrides (agent id -> policy name)."""
+
+    home: str = DEFAULT_POLICY
+    away: str = DEFAULT_POLICY
+    overrides: Mapping[str, str] = field(default_factory=dict)
+
+    def policy_name(self, agent: AgentId) -> str:
+        return self.overrides.get(str(agent), self.home if agent.side is Side.HOME else self.away)
+
+    def check(self, agents: tuple[AgentId, ...]) -> None:
+        """Every name resolves and every override names a robot on the field; else :class:`LineupError`."""
+        on_field = {str(a) for a in agents}
+        for robot in self.overrides:
+            if robot not in on_field:
+                raise LineupError(f"--policy {robot}=...: {robot} is not on the field; robots: {', '.join(sorted(on_field))}")
+        for name in dict.fromkeys([self.home, self.away, *self.overrides.values()]):
+            try:
+                policy_factory(name)
+            except ValueError as error:
+                raise LineupError(str(error)) from None
+
+    def policies(self, agents: tuple[AgentId, ...]) -> dict[str, Policy]:
+        """A new policy for every robot."""
+        self.check(agents)
+        try:
+            return {str(a): make_policy(self.policy_name(a)) for a in agents}
+        except ValueError as error:
+            raise LineupError(str(error)) from None
+
+
+def match_config(home: int = 4, away: int = 4, half_seconds: float = 600.0, shootout: bool = True) -> MatchConfig:
+    config = MatchConfig(home_players=home, away_players=away)
+    return replace(config, referee=replace(config.referee, half_seconds=half_seconds, shootout=shootout))
+
+
+def run_lineup_match(
+    out_dir: Path | None,
+    lineup: Lineup = Lineup(),
+    *,
+    home: int = 4,
+    away: int = 4,
+    half_seconds: float = 600.0,
+    seed: int = 0,
+    shootout: bool = True,
+    progress: bool = True,
+    max_steps: int | None = None,
+) -> MatchSummary:
+    """Play one match of ``home`` against ``away`` robots with the line-up's policies."""
+    config = match_config(home, away, half_seconds, shootout)
+    policies = lineup.policies(roster(home, away))  # refused here, before the world is built
+    match = Match(config)
+    try:
+        return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
+                         match=match)
+    finally:
+        match.close()

@@ -1,0 +1,1 @@
+"""``robotstadium perception``: the vision pipeline's landmark percepts scored against ground truth."""

@@ -1,0 +1,1 @@
+"""Tools around the simulator: the world demo, the benchmark, the colour calibration."""
