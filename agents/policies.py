@@ -9,6 +9,7 @@ must provide ``reset(agent_id, seed)`` and ``act(observation)``
 
 from __future__ import annotations
 
+import functools
 import importlib
 import re
 from collections.abc import Callable
@@ -17,6 +18,7 @@ from typing import Any
 from agents.behavior.scan_localize import ScanLocalizeAgent
 from agents.behavior.scripted import ScriptedPlayer
 from agents.behavior.stand import StandPolicy
+from agents.team.agent import TeamAgent
 from match.protocol import Policy
 
 PolicyFactory = Callable[..., Policy]
@@ -26,6 +28,12 @@ BUILTIN_POLICIES: dict[str, tuple[PolicyFactory, str]] = {
     "scripted": (ScriptedPlayer, "ball chaser by its camera and gyro; keeper as player 0; no localization"),
     "scan_localize": (ScanLocalizeAgent, "thesis chapter 6 cycle: a motion, a five-frame head scan, a localization"),
     "stand": (StandPolicy, "stands still, camera off"),
+    "team": (TeamAgent, "the team agent: vision, localization (particle filter) while playing, roles over the radio"),
+    "team-thesis": (functools.partial(TeamAgent, method="thesis"), "the team agent localizing with the thesis' method"),
+    "team-particle": (functools.partial(TeamAgent, method="particle"), "the team agent with the particle filter"),
+    "team-hybrid": (functools.partial(TeamAgent, method="hybrid"), "the team agent with the hybrid method"),
+    "team-odometry": (functools.partial(TeamAgent, method="odometry"), "the team agent on odometry alone"),
+    "team-blind": (functools.partial(TeamAgent, avoid_obstacles=False), "the team agent that does not avoid obstacles"),
 }
 DEFAULT_POLICY = "scripted"
 _IMPORT_PATH = re.compile(r"^[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*:[A-Za-z_][\w]*$")

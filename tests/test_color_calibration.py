@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.behavior.ball_finder import orange_mask
+from agents.vision.ball import orange_mask
 from agents.vision.colors import ColorClass
 from agents.vision.errors import ColorTableError
 from agents.vision.segmentation import ColorBox, ColorTable, ColorThresholds, clean_outliers, load_thresholds

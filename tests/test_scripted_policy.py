@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from agents.behavior.ball_finder import find_ball
+from agents.vision.ball import find_ball
 from agents.behavior.scripted import REPORT, ScriptedPlayer
 from match.protocol import (
     MOTIONS,

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import numpy as np
+
+from agents.team.messages import TeamMessage
 from match.protocol import CameraChoice, Motion, make_action
 
 
@@ -37,3 +40,25 @@ class NoReset:
 
 
 NOT_A_CLASS = 3
+
+
+class RadioFuzzer(Spinner):
+    """Stands and sends garbage to its teammates: random bytes, truncated and future-version packets."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        super().reset(agent_id, seed)
+        self.rng = np.random.default_rng(seed)
+        self.good = TeamMessage(int(agent_id[-1]), 1, (0.0, 0.0, 0.0), ball_xy=(1.0, 1.0)).encode()
+
+    def act(self, observation: dict) -> dict:
+        self.steps += 1
+        kind = self.steps % 4
+        if kind == 0:
+            data = self.rng.integers(0, 256, int(self.rng.integers(1, 129)), dtype=np.uint8).tobytes()
+        elif kind == 1:
+            data = self.good[: int(self.rng.integers(1, len(self.good)))]
+        elif kind == 2:
+            data = self.good[:2] + bytes([99]) + self.good[3:]
+        else:
+            data = b"RS" + bytes(125)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF, radio=data)

@@ -1,18 +1,15 @@
-"""Orange-ball detection in one camera image, and its position on the ground.
+"""The ball in one camera image, and its position on the ground.
 
-Colour segmentation (vectorized numpy, no loop over pixels), then the largest connected
-blob; the ray through its centroid is intersected with the plane ``z = ball radius`` of
-the torso frame (origin on the ground below the torso, x forward, y left, z up), where the
-ball's centre lies.
-
-The ball renders about RGB (255, 140, 0) scaled by the lighting (0.65 ambient + 0.35
-diffuse), so its green/red ratio stays near 0.55 and its blue near 0, unlike the yellow
-goal (ratio ~0.9), the magenta waistbands (blue/red ~0.7), the cyan waistbands (red ~0),
-the green carpet, white lines and grey robots.
+Pixels are classified by the calibrated colour table of :mod:`agents.vision.segmentation`
+(the same table as every other percept; orange is the ball's class), then the largest
+8-connected orange blob is the ball; the ray through its centre is intersected with the
+plane ``z = ball radius`` of the torso frame (origin on the ground below the torso, x
+forward, y left, z up), where the ball's centre lies.
 """
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 from dataclasses import dataclass
@@ -20,18 +17,21 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from agents.vision.colors import ColorClass
+from agents.vision.segmentation import ColorTable, load_thresholds
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
 from world.field import FIELD
 
 LOG = logging.getLogger(__name__)
 
-MIN_RED = 110  # the darkest shaded ball pixel is about 0.65 * 255 = 166
-MIN_GREEN_OVER_RED = 0.35
-MAX_GREEN_OVER_RED = 0.75
-MAX_BLUE_OVER_RED = 0.3
 MIN_BALL_PIXELS = 3
 MIN_FIT_POINTS = 6  # outline points needed to fit a circle to a ball cut by the image border
 MAX_DISTANCE_M = 9.0  # longer than the field diagonal: used when the ray misses the ground
+# A ball cut off by the image border shows less than its disc; one merged with orange beyond
+# it shows more. Outside these ratios of the expected disc area the blob is not the ball.
+CAMERA_HEIGHT_M = 0.5  # about: the size check needs no more
+MIN_SIZE_RATIO = 0.08
+MAX_SIZE_RATIO = 3.0
 
 
 @dataclass(frozen=True)
@@ -61,16 +61,15 @@ class BallPercept:
         return self.distance_m * math.sin(self.bearing_rad)
 
 
-def orange_mask(image: np.ndarray) -> np.ndarray:
-    """Boolean (H, W) mask of ball-coloured pixels of an RGB uint8 image (H, W, 3)."""
-    rgb = image.astype(np.int16)
-    red, green, blue = rgb[..., 0], rgb[..., 1], rgb[..., 2]
-    return (
-        (red >= MIN_RED)
-        & (green >= MIN_GREEN_OVER_RED * red)
-        & (green <= MAX_GREEN_OVER_RED * red)
-        & (blue <= MAX_BLUE_OVER_RED * red)
-    )
+@functools.cache
+def calibrated_table() -> ColorTable:
+    """The colour table of the calibrated thresholds shipped with the package (built once)."""
+    return ColorTable(load_thresholds())
+
+
+def orange_mask(image: np.ndarray, table: ColorTable | None = None) -> np.ndarray:
+    """Boolean (H, W) mask of the ball-coloured (orange) pixels of an RGB uint8 image (H, W, 3)."""
+    return (table or calibrated_table()).classify(image) == int(ColorClass.ORANGE)
 
 
 def _largest_blob(mask: np.ndarray) -> tuple[float, float, int] | None:
@@ -116,6 +115,16 @@ def _fit_cut_circle(blob: np.ndarray) -> tuple[float, float] | None:
     return float(cu), float(cv)
 
 
+def plausible(ball: BallPercept) -> bool:
+    """Whether a blob can be the ball: on the ground (its ray descends) and of about the size a
+    ball has at its distance (orange on a banner or a far robot is rejected)."""
+    if ball.distance_m >= MAX_DISTANCE_M:
+        return False
+    camera_range_m = math.hypot(ball.distance_m, CAMERA_HEIGHT_M - FIELD.ball_radius)
+    expected_px = math.pi * (NAO_CAMERA.focal_px * FIELD.ball_radius / camera_range_m) ** 2
+    return MIN_SIZE_RATIO * expected_px <= ball.pixels <= MAX_SIZE_RATIO * expected_px + MIN_BALL_PIXELS
+
+
 def ground_point(
     u: float, v: float, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition, height_m: float
 ) -> tuple[float, float]:
@@ -139,10 +148,24 @@ def ground_point(
 
 
 def find_ball(
-    image: np.ndarray, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition
+    image: np.ndarray,
+    head_yaw_rad: float,
+    head_pitch_rad: float,
+    camera: CameraPosition,
+    table: ColorTable | None = None,
 ) -> BallPercept | None:
-    """The ball in a 160x120 RGB image taken by ``camera`` at the given head angles, or None."""
-    blob = _largest_blob(orange_mask(np.asarray(image)))
+    """The ball in a 160x120 RGB image taken by ``camera`` at the given head angles, or None.
+
+    ``table``: the colour table to classify with (default: the calibrated one).
+    """
+    return ball_in_mask(orange_mask(np.asarray(image), table), head_yaw_rad, head_pitch_rad, camera)
+
+
+def ball_in_mask(
+    mask: np.ndarray, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition
+) -> BallPercept | None:
+    """The ball as the largest blob of a boolean (H, W) orange mask, or None."""
+    blob = _largest_blob(mask)
     if blob is None:
         return None
     u, v, size = blob

@@ -1,0 +1,95 @@
+"""Roles: who plays what, from the team model, and where each role stands.
+
+The goalkeeper is player 0. Among the field players the striker is the robot that reaches
+the ball first by an estimated time that counts the walk and the turn (a robot that is the
+striker keeps the role unless another is :data:`STRIKER_HYSTERESIS_S` faster, so two robots
+do not chase the same ball for long); of the others, the lower number defends (between the
+ball and its own goal) and the next supports (behind the striker, off to the side). With
+fewer players the roles degrade: one field player is always the striker, two are striker
+and defender.
+
+Positions are in the field frame; they are computed in the frame where the robot's own goal
+is at x = -3 (``attack`` = +1 when it defends the blue goal, -1 otherwise) and mirrored.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from agents.team.messages import Role
+from match.protocol import Pose2D
+from world.field import FIELD
+
+STRIKER_HYSTERESIS_S = 1.5
+WALK_SPEED_MPS = 0.15  # a typical approach speed, for the time to the ball
+TURN_SPEED_RADPS = 0.8
+FALLEN_PENALTY_S = 6.0  # standing up and finding the ball again
+GOALKEEPER_X_M = -2.85  # own-goal frame
+GOALKEEPER_MAX_Y_M = 0.55
+GOALKEEPER_FOLLOW = 0.4  # the keeper moves this share of the ball's y
+SUPPORT_BEHIND_M = 1.1
+SUPPORT_SIDE_M = 0.7
+DEFEND_SHARE = 0.4  # the defender stands this share of the way from its goal to the ball
+DEFENDER_MAX_X_M = -0.6  # own-goal frame: the defender stays in its own half
+FIELD_MARGIN_M = 0.3
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A robot that may take a role: its number and its estimated time to the ball (s)."""
+
+    player: int
+    time_to_ball_s: float
+
+
+def time_to_ball(pose: Pose2D, ball_xy: tuple[float, float], fallen: bool = False) -> float:
+    """Seconds to reach the ball: walk the distance and turn to face it first."""
+    dx, dy = ball_xy[0] - pose.x, ball_xy[1] - pose.y
+    turn = abs(math.remainder(math.atan2(dy, dx) - pose.theta, math.tau))
+    return math.hypot(dx, dy) / WALK_SPEED_MPS + turn / TURN_SPEED_RADPS + (FALLEN_PENALTY_S if fallen else 0.0)
+
+
+def assign_role(own: Candidate, others: Sequence[Candidate], current: Role) -> Role:
+    """This robot's role, given the field players heard from (``others``, keeper excluded)."""
+    if own.player == 0:
+        return Role.GOALKEEPER
+    field_players = [own, *[c for c in others if c.player != 0 and c.player != own.player]]
+
+    def effective(c: Candidate) -> tuple[float, int]:
+        bonus = STRIKER_HYSTERESIS_S if c.player == own.player and current is Role.STRIKER else 0.0
+        return (c.time_to_ball_s - bonus, c.player)
+
+    striker = min(field_players, key=effective)
+    if striker.player == own.player:
+        return Role.STRIKER
+    rest = sorted(c.player for c in field_players if c.player != striker.player)
+    return Role.DEFENDER if rest.index(own.player) == 0 else Role.SUPPORTER
+
+
+def role_position(role: Role, ball_xy: tuple[float, float] | None, attack: float) -> Pose2D:
+    """Where a robot of ``role`` should stand (field frame), facing the ball or the field."""
+    if ball_xy is None:
+        bx, by = 0.0, 0.0
+    else:
+        bx, by = ball_xy[0] * attack, ball_xy[1] * attack  # own-goal frame
+    if role is Role.GOALKEEPER:
+        x, y = GOALKEEPER_X_M, _clip(by * GOALKEEPER_FOLLOW, GOALKEEPER_MAX_Y_M)
+    elif role is Role.DEFENDER:
+        x = min(-FIELD.half_length + DEFEND_SHARE * (bx + FIELD.half_length), DEFENDER_MAX_X_M)
+        y = by * DEFEND_SHARE
+    else:  # supporter (and a striker without a ball: the same spot)
+        x = bx - SUPPORT_BEHIND_M
+        y = by - math.copysign(SUPPORT_SIDE_M, by) if abs(by) > SUPPORT_SIDE_M else by + SUPPORT_SIDE_M
+    if role is not Role.GOALKEEPER:
+        x = _clip(x, FIELD.half_length - FIELD_MARGIN_M)
+        y = _clip(y, FIELD.half_width - FIELD_MARGIN_M)
+    face = math.atan2(by - y, bx - x)
+    if attack > 0:
+        return Pose2D(x, y, face)
+    return Pose2D(-x, -y, math.remainder(face + math.pi, math.tau))
+
+
+def _clip(value: float, limit: float) -> float:
+    return min(max(value, -limit), limit)

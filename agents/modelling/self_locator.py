@@ -1,0 +1,104 @@
+"""Self-localization while playing: a localizer fed the robot's odometry and every frame's landmarks.
+
+The thesis localizes after a stop-and-scan; a playing robot cannot stop. Here the odometry of
+every step is gathered and handed to the localizer (one of :data:`agents.localization.LOCALIZERS`)
+in pieces of about :data:`FLUSH_TRAVEL_M` or :data:`FLUSH_TURN_RAD` (its motion noise is
+modelled per motion, not per 40 ms step), and the landmark percepts of each camera frame
+update it as they come. The pose is in the field frame with an uncertainty: from the
+localizer's covariance after a fix, growing with the distance walked and turned since.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from agents.localization import PoseEstimate, localizer
+from agents.localization.estimate import EstimateSource
+from agents.localization.odometry import compose
+from agents.vision.percepts import LandmarkPercept
+from match.protocol import Displacement, Pose2D
+
+FLUSH_TRAVEL_M = 0.25
+FLUSH_TURN_RAD = math.radians(20.0)
+FIX_SIGMA_M = 0.10  # after a landmark fix without a covariance (the thesis' method)
+FIX_SIGMA_RAD = math.radians(4.0)
+RESET_SIGMA_M = 0.05  # at a known pose (kick-off)
+RESET_SIGMA_RAD = math.radians(3.0)
+SIGMA_PER_M = 0.10  # growth of the position sigma per metre walked ...
+SIGMA_PER_RAD = 0.03  # ... and per radian turned
+SIGMA_RAD_PER_M = math.radians(4.0)  # growth of the heading sigma per metre walked ...
+SIGMA_RAD_PER_RAD = 0.08  # ... and per radian turned
+MIN_SIGMA_M = 0.02
+MIN_SIGMA_RAD = math.radians(1.0)
+MAX_SIGMA_M = 5.0
+MAX_SIGMA_RAD = math.pi
+
+
+class SelfLocator:
+    """Where the robot is: ``pose`` (field frame, None until known), ``sigma_m``, ``sigma_rad``."""
+
+    def __init__(self, method: str, seed: int):
+        self.method = method
+        self.localizer = localizer(method, seed=seed)
+        self.sigma_m = MAX_SIGMA_M
+        self.sigma_rad = MAX_SIGMA_RAD
+        self.last_fix: PoseEstimate | None = None
+        self._pending = Displacement(0.0, 0.0, 0.0)
+
+    @property
+    def pose(self) -> Pose2D | None:
+        """The pose as of now, odometry not yet handed to the localizer included."""
+        pose = self.localizer.pose
+        if pose is None:
+            return None
+        return compose(pose, self._pending)
+
+    def reset(self, pose: Pose2D) -> None:
+        """A known pose (placed at a kick-off position)."""
+        self._pending = Displacement(0.0, 0.0, 0.0)
+        self.localizer.reset(pose)
+        self.sigma_m, self.sigma_rad = RESET_SIGMA_M, RESET_SIGMA_RAD
+
+    def move(self, step: Displacement) -> None:
+        """The robot moved by ``step`` (its frame at the step's start) since the last call."""
+        p = self._pending
+        c, s = math.cos(p.turn_rad), math.sin(p.turn_rad)
+        self._pending = Displacement(
+            p.forward_m + c * step.forward_m - s * step.left_m,
+            p.left_m + s * step.forward_m + c * step.left_m,
+            p.turn_rad + step.turn_rad,
+        )
+        travel, turn = math.hypot(step.forward_m, step.left_m), abs(step.turn_rad)
+        self.sigma_m = min(MAX_SIGMA_M, self.sigma_m + SIGMA_PER_M * travel + SIGMA_PER_RAD * turn)
+        self.sigma_rad = min(MAX_SIGMA_RAD, self.sigma_rad + SIGMA_RAD_PER_M * travel + SIGMA_RAD_PER_RAD * turn)
+        pending = self._pending
+        if math.hypot(pending.forward_m, pending.left_m) >= FLUSH_TRAVEL_M or abs(pending.turn_rad) >= FLUSH_TURN_RAD:
+            self._flush()
+
+    def update(self, percepts: Sequence[LandmarkPercept]) -> PoseEstimate | None:
+        """The landmarks of one frame; returns the localizer's estimate when they fixed the pose."""
+        if not percepts:
+            return None
+        self._flush()
+        estimate = self.localizer.localize(percepts)
+        if estimate is None or estimate.source is EstimateSource.ODOMETER:
+            return None
+        self.last_fix = estimate
+        if estimate.covariance is not None:
+            cov = np.asarray(estimate.covariance, float)
+            sigma_m = math.sqrt(max(float(np.linalg.eigvalsh(cov[:2, :2]).max()), 0.0))
+            sigma_rad = math.sqrt(max(float(cov[2, 2]), 0.0))
+        else:
+            sigma_m, sigma_rad = FIX_SIGMA_M, FIX_SIGMA_RAD
+        self.sigma_m, self.sigma_rad = max(sigma_m, MIN_SIGMA_M), max(sigma_rad, MIN_SIGMA_RAD)
+        return estimate
+
+    def _flush(self) -> None:
+        pending = self._pending
+        if pending.forward_m or pending.left_m or pending.turn_rad:
+            self._pending = Displacement(0.0, 0.0, 0.0)
+            if self.localizer.pose is not None:
+                self.localizer.move(Displacement(pending.forward_m, pending.left_m, math.remainder(pending.turn_rad, math.tau)))

@@ -1,0 +1,341 @@
+"""The team agent: a player that sees, localizes while it plays, and plays with its teammates.
+
+One step (40 ms) runs, from the observation only:
+
+1. **Odometry**: the walk commanded last step moved the robot; the self-locator and the
+   ball model are moved by it (:mod:`agents.modelling`).
+2. **Radio in**: teammates' messages (:mod:`agents.team.messages`) into the team model;
+   anything else is counted and ignored.
+3. **Perception** (when the camera gave a frame): the landmark pipeline of
+   :mod:`agents.vision`, the ball from the same segmented image, its size checked against
+   its distance; landmarks update the self-locator, the ball the ball model.
+4. **Game state**: stand in INITIAL, SET and FINISHED (placed at its kick-off pose in
+   INITIAL, so the locator is reset there, and in SET when far from it: the referee placed
+   it); walk to the kick-off pose in READY; stand up after a fall.
+5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
+   from the team model; the striker chases the ball and kicks it toward the opponent goal
+   computed from its pose estimate; the others walk to their role's position.
+6. **Head**: track the ball, glance at a goal when the pose is uncertain, sweep when the
+   ball is lost; the camera is on every other step.
+7. **Radio out**: pose, ball, role and intention every :data:`RADIO_EVERY_STEPS` steps.
+
+Variants: the localization method (``method``) and ``avoid_obstacles`` (False: the
+"blind" player of the thesis' scenario 3).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from agents.behavior import skills
+from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.modelling.ball_model import BallEstimate, BallModel
+from agents.modelling.self_locator import SelfLocator
+from agents.modelling.team_model import TeamModel
+from agents.observation import Observation
+from agents.team.messages import DecodeStats, Intention, Role, TeamMessage, decode
+from agents.vision.ball import ball_in_mask, plausible
+from agents.vision.colors import ColorClass
+from agents.vision.frame import CameraFrame
+from agents.vision.pipeline import VisionPipeline
+from match.protocol import (
+    AgentId,
+    CameraChoice,
+    Displacement,
+    GameState,
+    GoalColor,
+    KickOff,
+    Motion,
+    Pose2D,
+    kickoff_pose,
+    make_action,
+)
+from world.camera_model import CameraPosition
+from world.field import FIELD
+
+LOG = logging.getLogger(__name__)
+
+DT_S = skills.CONTROL_STEP_S
+DEFAULT_METHOD = "particle"
+CAMERA_EVERY_STEPS = 2
+RADIO_EVERY_STEPS = 5  # one packet per 0.2 s: the radio's budget
+BALL_LOST_S = 2.0  # the own ball is trusted this long without a sighting
+TRACK_BALL_S = 0.6  # younger than this, the head follows the ball
+GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
+GLANCE_S = 0.8  # ... for this long
+UNCERTAIN_M = 0.25
+PLACED_FAR_M = 0.6  # in SET, farther than this from the kick-off pose: the referee placed it
+FALL_SIGMA_M = 0.2  # a fall adds this much position uncertainty ...
+FALL_SIGMA_RAD = math.radians(30.0)  # ... and this much heading uncertainty
+KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within this (pose estimate)
+OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
+OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
+SIDELINE_MARGIN_M = 0.35  # nearer the side line than this, kick only facing into the field
+
+
+class TeamAgent:
+    """The ``team`` policy (:class:`match.protocol.policy.Policy` and ``PoseReporter``)."""
+
+    def __init__(self, method: str = DEFAULT_METHOD, avoid_obstacles: bool = True, camera_model: str = "exact"):
+        self.method = method
+        self.avoid_obstacles = avoid_obstacles
+        self.pipeline = VisionPipeline(camera_model)
+        self.reset("home_1", 0)
+
+    # ---- life cycle ----------------------------------------------------------------------
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        self.agent_id = agent_id
+        self.player = AgentId.parse(agent_id).player
+        self.locator = SelfLocator(self.method, seed)
+        self.ball = BallModel()
+        self.team = TeamModel(self.player)
+        self.role = Role.NONE
+        self.intention = Intention.NONE
+        self.decode_stats = DecodeStats()
+        self.step = 0
+        self.sequence = 0
+        self._walk = skills.STILL
+        self._state: GameState | None = None
+        self._defended: GoalColor | None = None
+        self._camera = CameraPosition.TOP
+        self._sweep = skills.HeadSweep()
+        self._glance_until_s = -math.inf
+        self._next_glance_s = 0.0
+        self._own_goal_ahead_s = -math.inf
+        self._was_fallen = False
+        self._time_to_ball_s = math.inf
+
+    @property
+    def now_s(self) -> float:
+        return self.step * DT_S
+
+    def pose_estimate(self) -> tuple[float, float, float] | None:
+        pose = self.locator.pose
+        return None if pose is None else (pose.x, pose.y, pose.theta)
+
+    # ---- the step ------------------------------------------------------------------------
+
+    def act(self, observation: Observation | Mapping[str, Any]) -> dict:
+        obs = Observation.of(observation)
+        self.step += 1
+        self._move(obs)
+        self._listen(obs)
+        busy = obs.fallen or (obs.motion is not None and obs.motion.is_stand_up)
+        if obs.image is not None and not busy:
+            self._see(obs)
+        self._follow_game(obs)
+        motion, walk, head = self._decide(obs, busy)
+        if motion is Motion.WALK and self.avoid_obstacles:
+            walk = skills.avoid(walk, obs.sonar_m)
+        self._walk = walk if motion is Motion.WALK else skills.STILL
+        radio = self._message(obs).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
+        camera = CameraChoice.of(self._camera) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
+        return make_action(motion, walk=walk, head=skills.clip_head(*head), camera=camera, radio=radio)
+
+    # ---- modelling -----------------------------------------------------------------------
+
+    def _move(self, obs: Observation) -> None:
+        """The last step's own walk, as commanded (nominal), moves the beliefs."""
+        walking = obs.motion is Motion.WALK
+        vx, vy, omega = self._walk if walking else skills.STILL
+        moved = _arc(vx, vy, omega, DT_S)
+        self.locator.move(moved)
+        self.ball.predict(DT_S, moved)
+        if obs.fallen and not self._was_fallen:
+            self.locator.sigma_m += FALL_SIGMA_M
+            self.locator.sigma_rad += FALL_SIGMA_RAD
+        self._was_fallen = obs.fallen
+
+    def _listen(self, obs: Observation) -> None:
+        for packet in obs.packets:
+            message = decode(packet.data, self.decode_stats)
+            if message is not None and message.player == packet.sender:
+                self.team.hear(message, self.now_s)
+            elif message is not None:
+                self.decode_stats.ignored["sender mismatch"] += 1
+
+    def _see(self, obs: Observation) -> None:
+        frame = CameraFrame.from_observation(obs)
+        result = self.pipeline.process(frame)
+        self.locator.update(result.percepts)
+        own_goal = obs.game.defended_goal
+        for percept in result.percepts:
+            if percept.goal is own_goal and abs(percept.bearing_rad) < OWN_GOAL_AHEAD_RAD:
+                self._own_goal_ahead_s = self.now_s
+        mask = result.segmented == int(ColorClass.ORANGE)
+        ball = ball_in_mask(mask, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
+        if ball is not None and plausible(ball):
+            self.ball.measure(ball.distance_m, ball.bearing_rad)
+
+    def _follow_game(self, obs: Observation) -> None:
+        """Resets at the kick-off pose (thesis 5.5) when the referee placed the robot there."""
+        state, defended = obs.game.state, obs.game.defended_goal
+        start = kickoff_pose(self.player, obs.game.kickoff is KickOff.OWN_TEAM, defended)
+        pose = self.locator.pose
+        if state is GameState.INITIAL and (self._state is not GameState.INITIAL or defended is not self._defended):
+            self.locator.reset(start)
+            self.ball.reset()
+        elif state is GameState.SET and self._state is not GameState.SET:
+            if pose is None or math.hypot(pose.x - start.x, pose.y - start.y) > PLACED_FAR_M:
+                self.locator.reset(start)
+        elif pose is None:
+            self.locator.reset(start)
+        self._state, self._defended = state, defended
+
+    # ---- behaviour -----------------------------------------------------------------------
+
+    def _decide(self, obs: Observation, busy: bool) -> tuple[Motion, tuple[float, float, float], tuple[float, float]]:
+        if obs.motion is not None and obs.motion.is_stand_up:
+            self.intention = Intention.RECOVER
+            return obs.motion, skills.STILL, (0.0, 0.0)
+        if obs.fallen:
+            self.intention = Intention.RECOVER
+            return skills.stand_up_for(obs.accelerometer_mps2[0]), skills.STILL, (0.0, 0.0)
+        pose = self.locator.pose
+        assert pose is not None  # reset in _follow_game
+        ball_rel = self._own_ball()
+        ball_field = self._team_ball(pose, ball_rel)
+        head = self._head(pose, ball_rel)
+        state = obs.game.state
+        if state is GameState.READY:
+            self.intention = Intention.POSITION
+            start = kickoff_pose(self.player, obs.game.kickoff is KickOff.OWN_TEAM, obs.game.defended_goal)
+            motion, walk = skills.walk_to(pose, start)
+            return motion, walk, head
+        if state is not GameState.PLAYING:
+            self.intention = Intention.NONE
+            return Motion.STAND, skills.STILL, head
+        if obs.motion is not None and obs.motion.is_kick:
+            return obs.motion, skills.STILL, head
+        attack = 1.0 if obs.game.defended_goal is GoalColor.BLUE else -1.0
+        self.role = self._assign_role(pose, ball_field, obs)
+        if self.role is Role.STRIKER or (self.role is Role.GOALKEEPER and self._keeper_clears(ball_rel, pose, attack)):
+            return self._strike(pose, ball_rel, ball_field, attack, head)
+        self.intention = Intention.POSITION
+        target = role_position(self.role, None if ball_field is None else (ball_field.x, ball_field.y), attack)
+        motion, walk = skills.walk_to(pose, target)
+        return motion, walk, head
+
+    def _own_ball(self) -> BallEstimate | None:
+        rel = self.ball.relative()
+        return rel if rel is not None and rel.age_s <= BALL_LOST_S else None
+
+    def _team_ball(self, pose: Pose2D, ball_rel: BallEstimate | None) -> BallEstimate | None:
+        own = None
+        if ball_rel is not None:
+            own = self.ball.in_field((pose.x, pose.y, pose.theta), self.locator.sigma_m, self.locator.sigma_rad)
+        best = self.team.team_ball(own, self.now_s)
+        return None if best is None else best[0]
+
+    def _assign_role(self, pose: Pose2D, ball: BallEstimate | None, obs: Observation) -> Role:
+        own_time = math.inf if ball is None else time_to_ball(pose, (ball.x, ball.y), obs.fallen)
+        self._time_to_ball_s = own_time
+        others = [Candidate(m.message.player, m.message.time_to_ball_s) for m in self.team.teammates(self.now_s)
+                  if not m.message.fallen]
+        return assign_role(Candidate(self.player, own_time), others, self.role)
+
+    def _keeper_clears(self, ball_rel: BallEstimate | None, pose: Pose2D, attack: float) -> bool:
+        """The goalkeeper leaves its line for a ball close to it in its own goal area."""
+        if ball_rel is None or ball_rel.distance_m > 0.6:
+            return False
+        return pose.x * attack < -FIELD.half_length + 0.9
+
+    def _strike(self, pose: Pose2D, ball_rel: BallEstimate | None, ball_field: BallEstimate | None, attack: float,
+                head: tuple[float, float]) -> tuple[Motion, tuple[float, float, float], tuple[float, float]]:
+        if ball_rel is None:
+            if ball_field is None:
+                self.intention = Intention.SEARCH
+                return Motion.WALK, skills.walk_command(0.0, 0.0, skills.SEARCH_TURN_RADPS), head
+            # A teammate's ball: walk toward it.
+            self.intention = Intention.GO_TO_BALL
+            motion, walk = skills.walk_to(pose, Pose2D(ball_field.x, ball_field.y, pose.theta))
+            return motion, walk, head
+        self.intention = Intention.GO_TO_BALL
+        goal_x = FIELD.half_length * attack
+        aim = math.atan2(0.0 - pose.y, goal_x - pose.x)
+        heading_error = math.remainder(aim - pose.theta, math.tau)
+        motion, walk = skills.chase(ball_rel, heading_error)
+        if motion.is_kick:
+            if not self._may_kick(pose, heading_error):
+                motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
+            else:
+                self.intention = Intention.KICK
+        return motion, walk, head
+
+    def _may_kick(self, pose: Pose2D, heading_error: float) -> bool:
+        """Facing the opponent goal by the pose, not the own goal by the eyes, not out over a side line."""
+        if abs(heading_error) > KICK_ALIGN_RAD:
+            return False
+        if self.now_s - self._own_goal_ahead_s < OWN_GOAL_MEMORY_S:
+            return False
+        if abs(pose.y) > FIELD.half_width - SIDELINE_MARGIN_M and math.sin(pose.theta) * pose.y > 0:
+            return False
+        return True
+
+    def _head(self, pose: Pose2D, ball_rel: BallEstimate | None) -> tuple[float, float]:
+        now = self.now_s
+        if self.locator.sigma_m > UNCERTAIN_M and now >= self._next_glance_s:
+            self._glance_until_s = now + GLANCE_S
+            self._next_glance_s = now + GLANCE_EVERY_S
+        if now < self._glance_until_s:
+            return self._glance(pose)
+        if ball_rel is not None and ball_rel.age_s <= TRACK_BALL_S:
+            if ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
+                self._camera = CameraPosition.BOTTOM
+            elif ball_rel.distance_m > skills.TOP_CAMERA_BEYOND_M:
+                self._camera = CameraPosition.TOP
+            return skills.look_at(ball_rel, self._camera)
+        yaw = self._sweep.advance(skills.SEARCH_SCAN_RATE_RADPS)
+        if self._sweep.reversals % 2 == 1:
+            self._camera = CameraPosition.BOTTOM
+            return yaw, skills.NEAR_SCAN_PITCH_RAD
+        self._camera = CameraPosition.TOP
+        return yaw, skills.SCAN_PITCH_RAD
+
+    def _glance(self, pose: Pose2D) -> tuple[float, float]:
+        """Look at the nearer goal's centre with the top camera (its posts are the surest landmarks)."""
+        self._camera = CameraPosition.TOP
+        best = None
+        for goal_x in (-FIELD.half_length, FIELD.half_length):
+            bearing = math.remainder(math.atan2(-pose.y, goal_x - pose.x) - pose.theta, math.tau)
+            if best is None or abs(bearing) < abs(best):
+                best = bearing
+        return best, skills.SCAN_PITCH_RAD
+
+    def _message(self, obs: Observation) -> TeamMessage:
+        pose = self.locator.pose
+        ball = None
+        rel = self.ball.relative()
+        if pose is not None and rel is not None:
+            ball = self.ball.in_field((pose.x, pose.y, pose.theta), self.locator.sigma_m, self.locator.sigma_rad)
+        self.sequence += 1
+        return TeamMessage(
+            player=self.player,
+            sequence=self.sequence,
+            pose=None if pose is None else (pose.x, pose.y, pose.theta),
+            pose_sigma_m=self.locator.sigma_m,
+            pose_sigma_rad=self.locator.sigma_rad,
+            ball_xy=None if ball is None else (ball.x, ball.y),
+            ball_velocity=(0.0, 0.0) if ball is None else (ball.vx, ball.vy),
+            ball_sigma_m=0.0 if ball is None else ball.sigma_m,
+            ball_age_s=0.0 if ball is None else ball.age_s,
+            fallen=obs.fallen,
+            role=self.role,
+            intention=self.intention,
+            time_to_ball_s=self._time_to_ball_s,
+        )
+
+
+def _arc(vx: float, vy: float, omega: float, dt: float) -> Displacement:
+    """The displacement of walking at (vx, vy, omega) for ``dt`` (robot frame at the start)."""
+    turn = omega * dt
+    if abs(turn) < 1e-9:
+        return Displacement(vx * dt, vy * dt, 0.0)
+    s, c = math.sin(turn), math.cos(turn)
+    forward = (vx * s + vy * (c - 1.0)) / omega
+    left = (vx * (1.0 - c) + vy * s) / omega
+    return Displacement(forward, left, turn)

@@ -1,0 +1,100 @@
+"""The team agent: it survives bad radio, no camera and black images, and never kicks toward its own goal."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from agents.modelling.ball_model import BallEstimate
+from agents.policies import make_policy
+from agents.team.agent import TeamAgent
+from match.free_play import FreePlay
+from match.game import MatchConfig
+from match.protocol import CameraChoice, GameState, Motion, Pose2D, observation_space
+from match.runner import run_match
+from tests.user_policies import RadioFuzzer
+
+
+def _observation(seed: int, **changes) -> dict:
+    space = observation_space()
+    space.seed(seed)
+    obs = space.sample()
+    obs["fallen"] = 0
+    obs["motion"] = len(Motion) - 1  # idle
+    obs["game"]["state"] = int(GameState.PLAYING)
+    obs["game"]["player"] = 1
+    obs.update(changes)
+    return obs
+
+
+@pytest.mark.parametrize("name, method", [("team", "particle"), ("team-thesis", "thesis"),
+                                          ("team-odometry", "odometry"), ("team-hybrid", "hybrid")])
+def test_variants_by_name(name: str, method: str) -> None:
+    agent = make_policy(name)
+    assert isinstance(agent, TeamAgent) and agent.method == method
+    assert make_policy("team-blind").avoid_obstacles is False
+
+
+def test_random_observations_black_images_and_no_camera_never_break_it() -> None:
+    agent = TeamAgent()
+    agent.reset("home_1", 3)
+    black = np.zeros((120, 160, 3), np.uint8)
+    for seed in range(30):
+        changes = {}
+        if seed % 3 == 1:
+            changes = {"image": black, "camera": int(CameraChoice.TOP)}
+        elif seed % 3 == 2:
+            changes = {"camera": int(CameraChoice.OFF)}
+        action = agent.act(_observation(seed, **changes))
+        assert set(action) >= {"motion", "head", "camera"}
+        assert all(math.isfinite(v) for v in agent.pose_estimate())
+
+
+@pytest.mark.render
+def test_bad_radio_from_a_teammate_is_ignored_and_counted() -> None:
+    starts = (("home_1", Pose2D(-1.0, 0.0, 0.0)), ("home_2", Pose2D(-1.0, 1.0, 0.0)))
+    config = MatchConfig(free_play=FreePlay(starts), initial_camera=CameraChoice.OFF)
+    agent, fuzzer = TeamAgent(), RadioFuzzer()
+    summary = run_match(config, {"home_1": agent, "home_2": fuzzer}, seed=1, progress=False, max_steps=60)
+    assert summary.faults["total"] == 0
+    ignored = agent.decode_stats.ignored
+    assert agent.decode_stats.decoded == 0 and sum(ignored.values()) >= 10
+    assert {"unknown version", "wrong length"} <= set(ignored)
+
+
+@pytest.mark.parametrize("defended, theta", [("blue", math.pi), ("yellow", 0.0)])
+def test_never_kicks_toward_its_own_goal(defended: str, theta: float) -> None:
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    attack = 1.0 if defended == "blue" else -1.0
+    pose = Pose2D(-1.0 * attack, 0.0, theta)  # in its own half, facing its own goal
+    ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
+    motion, _, _ = agent._strike(pose, ball, None, attack, (0.0, 0.0))
+    assert not motion.is_kick
+    facing = Pose2D(pose.x, pose.y, math.remainder(theta + math.pi, math.tau))
+    motion, _, _ = agent._strike(facing, ball, None, attack, (0.0, 0.0))
+    assert motion.is_kick
+
+
+def test_no_kick_out_over_the_side_line() -> None:
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
+    near_line = Pose2D(0.0, 1.8, 0.03)  # the goal is 33 degrees to the right; this heading leaves the field
+    motion, _, _ = agent._strike(near_line, ball, None, 1.0, (0.0, 0.0))
+    assert not motion.is_kick
+    inward = Pose2D(0.0, 1.8, -0.2)
+    motion, _, _ = agent._strike(inward, ball, None, 1.0, (0.0, 0.0))
+    assert motion.is_kick
+
+
+@pytest.mark.render
+def test_its_estimates_are_in_the_match_log(tmp_path) -> None:
+    starts = (("home_1", Pose2D(-1.0, 0.0, 0.0)),)
+    config = MatchConfig(free_play=FreePlay(starts))
+    run_match(config, {"home_1": TeamAgent()}, seed=2, out_dir=tmp_path, progress=False, max_steps=50)
+    log = np.load(tmp_path / "match_log.npz")
+    assert log["estimates"].shape == (51, 1, 3)
+    assert np.isfinite(log["estimates"][1:]).all()  # from the first action on

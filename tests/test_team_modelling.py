@@ -1,0 +1,107 @@
+"""The team agent's models: the ball filter, the self-locator's odometry, the team ball, and roles."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate, BallModel
+from agents.modelling.self_locator import SelfLocator
+from agents.modelling.team_model import MESSAGE_TIMEOUT_S, TeamModel
+from agents.team.agent import _arc
+from agents.team.messages import Role, TeamMessage
+from match.protocol import Displacement, Pose2D
+
+STILL = Displacement(0.0, 0.0, 0.0)
+
+
+def test_ball_model_follows_a_rolling_ball_and_estimates_its_speed() -> None:
+    model = BallModel()
+    for k in range(60):
+        model.predict(0.04, STILL)
+        t = (k + 1) * 0.04
+        model.measure(1.0 + ROLL_DECAY_S * (1.0 - math.exp(-t / ROLL_DECAY_S)), 0.0)
+    ball = model.relative()
+    speed = math.exp(-60 * 0.04 / ROLL_DECAY_S)
+    assert ball.vx == pytest.approx(speed, abs=0.1) and abs(ball.vy) < 0.05 and ball.age_s == 0.0
+
+
+def test_ball_model_moves_the_ball_into_the_robots_new_frame() -> None:
+    model = BallModel()
+    model.predict(0.04, STILL)
+    model.measure(1.0, 0.0)
+    model.predict(0.04, Displacement(0.2, 0.0, math.pi / 2))  # walked 0.2 m, then faces left
+    ball = model.relative()
+    assert (ball.x, ball.y) == pytest.approx((0.0, -0.8), abs=0.01)
+    field = model.in_field((0.2, 0.0, math.pi / 2), 0.1, 0.0)
+    assert (field.x, field.y) == pytest.approx((1.0, 0.0), abs=0.01) and field.sigma_m > ball.sigma_m
+
+
+def test_ball_model_restarts_after_the_ball_jumped() -> None:
+    model = BallModel()
+    for _ in range(5):
+        model.predict(0.04, STILL)
+        model.measure(1.0, 0.0)
+    model.predict(0.04, STILL)
+    model.measure(2.5, 1.0)  # one wild sighting is not enough
+    assert model.relative().distance_m == pytest.approx(1.0, abs=0.05)
+    model.predict(0.04, STILL)
+    model.measure(2.5, 1.0)
+    assert model.relative().distance_m == pytest.approx(2.5, abs=0.01)
+
+
+def test_walk_arcs_compose_to_the_same_displacement() -> None:
+    locator = SelfLocator("odometry", 0)
+    locator.reset(Pose2D(0.0, 0.0, 0.0))
+    for _ in range(100):  # 4 s at 0.1 m/s while turning 0.4 rad/s
+        locator.move(_arc(0.1, 0.0, 0.4, 0.04))
+    pose = locator.pose
+    radius = 0.1 / 0.4
+    assert pose.theta == pytest.approx(1.6, abs=1e-6)
+    assert (pose.x, pose.y) == pytest.approx((radius * math.sin(1.6), radius * (1 - math.cos(1.6))), abs=1e-6)
+    assert locator.sigma_m > 0.05
+
+
+def test_team_ball_prefers_the_fresher_and_surer_estimate() -> None:
+    team = TeamModel(own_player=1)
+    own = BallEstimate(1.0, 0.0, 0.0, 0.0, 0.5, 1.5)
+    team.hear(TeamMessage(2, 1, (0.0, 0.0, 0.0), ball_xy=(2.0, 1.0), ball_sigma_m=0.1, ball_age_s=0.1), now_s=10.0)
+    ball, player = team.team_ball(own, now_s=10.2)
+    assert player == 2 and (ball.x, ball.y) == pytest.approx((2.0, 1.0)) and ball.age_s == pytest.approx(0.3)
+    sure_own = BallEstimate(1.0, 0.0, 0.0, 0.0, 0.05, 0.0)
+    assert team.team_ball(sure_own, now_s=10.2)[1] == 1
+    assert team.team_ball(None, now_s=10.0 + MESSAGE_TIMEOUT_S + 0.1) is None  # the teammate fell silent
+    team.hear(TeamMessage(1, 1, None, ball_xy=(0.0, 0.0)), now_s=10.0)  # its own echo is not a teammate
+    assert [m.message.player for m in team.teammates(10.0)] == [2]
+
+
+def test_roles_one_striker_with_hysteresis_and_the_rest_by_number() -> None:
+    assert assign_role(Candidate(0, 1.0), [], Role.NONE) is Role.GOALKEEPER
+    others = [Candidate(0, 0.5), Candidate(2, 5.0), Candidate(3, 9.0)]
+    assert assign_role(Candidate(1, 6.0), others, Role.NONE) is Role.DEFENDER
+    assert assign_role(Candidate(3, 9.0), [Candidate(1, 6.0), Candidate(2, 5.0)], Role.NONE) is Role.SUPPORTER
+    assert assign_role(Candidate(2, 5.0), [Candidate(1, 6.0)], Role.NONE) is Role.STRIKER
+    # The striker keeps its role against a robot only a little faster.
+    assert assign_role(Candidate(1, 6.0), [Candidate(2, 5.0)], Role.STRIKER) is Role.STRIKER
+    assert assign_role(Candidate(1, 6.0), [Candidate(2, 4.0)], Role.STRIKER) is Role.DEFENDER
+    assert assign_role(Candidate(1, math.inf), [], Role.NONE) is Role.STRIKER  # alone: always the striker
+
+
+def test_time_to_ball_counts_the_turn() -> None:
+    facing = time_to_ball(Pose2D(0.0, 0.0, 0.0), (1.0, 0.0))
+    away = time_to_ball(Pose2D(0.0, 0.0, math.pi), (1.0, 0.0))
+    assert away > facing and time_to_ball(Pose2D(0.0, 0.0, 0.0), (1.0, 0.0), fallen=True) > facing
+
+
+@pytest.mark.parametrize("attack", [1.0, -1.0])
+def test_role_positions_stay_on_the_own_side_of_the_ball(attack: float) -> None:
+    ball = (0.5 * attack, 0.8 * attack)
+    keeper = role_position(Role.GOALKEEPER, ball, attack)
+    defender = role_position(Role.DEFENDER, ball, attack)
+    supporter = role_position(Role.SUPPORTER, ball, attack)
+    assert keeper.x * attack == pytest.approx(-2.85) and abs(keeper.y) <= 0.55
+    assert defender.x * attack < ball[0] * attack and supporter.x * attack < ball[0] * attack
+    for pose in (keeper, defender, supporter):
+        assert abs(pose.x) <= 3.0 and abs(pose.y) <= 2.0
