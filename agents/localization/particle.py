@@ -86,6 +86,9 @@ class ParticleConfig:
     lost_likelihood: float = 0.15  # per-percept likelihood below which the cloud counts as lost
     injection_oversampling: int = 4  # raw scan samples drawn per injected particle
     field_margin_m: float = FIELD_MARGIN_M  # scan samples farther outside the lines are dropped
+    # A sample drawn from the percepts replaces the cloud's estimate (a kidnapping) only when
+    # they hold at least this many landmarks: one or two seen from a moving robot fit many poses.
+    jump_min_percepts: int = 1
     cluster_radius_m: float = 0.5  # the estimate averages particles this close to the most likely one
     cluster_angle_rad: float = 0.5
     refine: bool = True
@@ -97,6 +100,8 @@ class ParticleConfig:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
                 raise LocalizationConfigError(f"{name} must be within [0, 1]; got {value!r}")
+        if not (isinstance(self.jump_min_percepts, int) and self.jump_min_percepts >= 1):
+            raise LocalizationConfigError(f"jump_min_percepts must be an int >= 1; got {self.jump_min_percepts!r}")
         if not (isinstance(self.injection_oversampling, int) and self.injection_oversampling >= 1):
             raise LocalizationConfigError(f"injection_oversampling must be an int >= 1; got {self.injection_oversampling!r}")
 
@@ -284,8 +289,10 @@ class ParticleLocalizer:
         weights = np.exp(ll - ll.max())
         weights /= weights.sum()
         extra = self._extra_samples(scan, percepts)
+        may_jump = len(scan) >= cfg.jump_min_percepts
         if (
-            len(extra)
+            may_jump
+            and len(extra)
             and float(scan.log_likelihood(extra[:, 0], extra[:, 1], extra[:, 2]).max()) > float(ll.max()) + KIDNAP_MARGIN
         ):
             fraction = max(fraction, cfg.max_injection)
@@ -294,7 +301,7 @@ class ParticleLocalizer:
 
         best = int(np.argmax(ll))
         prior: tuple[Pose2D, Covariance] | None = None
-        if n_inject and (lost or float(ill.max()) > float(ll[best]) + KIDNAP_MARGIN):
+        if n_inject and (lost or (may_jump and float(ill.max()) > float(ll[best]) + KIDNAP_MARGIN)):
             k = int(np.argmax(ill))
             seed_pose = Pose2D(float(ix[k]), float(iy[k]), float(ith[k]))
             near = (np.hypot(ix - ix[k], iy - iy[k]) <= cfg.cluster_radius_m) & (

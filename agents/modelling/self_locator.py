@@ -21,6 +21,11 @@ from agents.localization.odometry import compose
 from agents.vision.percepts import LandmarkPercept
 from match.protocol import Displacement, Pose2D
 
+# The particle filters' settings for updates every frame rather than every scan (a few
+# seconds apart): slower likelihood averages, fewer injected particles, and no jump to a
+# pose that only one or two landmarks support.
+_PER_FRAME = {"alpha_slow": 0.01, "alpha_fast": 0.1, "max_injection": 0.1, "jump_min_percepts": 3}
+PLAYING_OPTIONS: dict[str, dict[str, object]] = {"particle": _PER_FRAME, "hybrid": _PER_FRAME}
 FLUSH_TRAVEL_M = 0.25
 FLUSH_TURN_RAD = math.radians(20.0)
 FIX_SIGMA_M = 0.10  # after a landmark fix without a covariance (the thesis' method)
@@ -42,7 +47,7 @@ class SelfLocator:
 
     def __init__(self, method: str, seed: int):
         self.method = method
-        self.localizer = localizer(method, seed=seed)
+        self.localizer = localizer(method, seed=seed, **PLAYING_OPTIONS.get(method, {}))
         self.sigma_m = MAX_SIGMA_M
         self.sigma_rad = MAX_SIGMA_RAD
         self.last_fix: PoseEstimate | None = None

@@ -2,8 +2,8 @@
 
 One step (40 ms) runs, from the observation only:
 
-1. **Odometry**: the walk commanded last step moved the robot; the self-locator and the
-   ball model are moved by it (:mod:`agents.modelling`).
+1. **Odometry**: the walk commanded last step moved the robot, and the gyro says how much
+   it turned; the self-locator and the ball model are moved by it (:mod:`agents.modelling`).
 2. **Radio in**: teammates' messages (:mod:`agents.team.messages`) into the team model;
    anything else is counted and ignored.
 3. **Perception** (when the camera gave a frame): the landmark pipeline of
@@ -68,6 +68,7 @@ GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
 GLANCE_S = 0.8  # ... for this long
 UNCERTAIN_M = 0.25
 PLACED_FAR_M = 0.6  # in SET, farther than this from the kick-off pose: the referee placed it
+UPRIGHT_ACCELERATION_MPS2 = 8.0  # torso z reads g cos(tilt): below this the robot is tilting (falling)
 FALL_SIGMA_M = 0.2  # a fall adds this much position uncertainty ...
 FALL_SIGMA_RAD = math.radians(30.0)  # ... and this much heading uncertainty
 KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within this (pose estimate)
@@ -139,9 +140,13 @@ class TeamAgent:
     # ---- modelling -----------------------------------------------------------------------
 
     def _move(self, obs: Observation) -> None:
-        """The last step's own walk, as commanded (nominal), moves the beliefs."""
+        """The last step's own walk moves the beliefs: the translation as commanded (nominal), the
+        turn as the gyro measured it (it also feels pushes and collisions)."""
         walking = obs.motion is Motion.WALK
-        vx, vy, omega = self._walk if walking else skills.STILL
+        vx, vy, _ = self._walk if walking else skills.STILL
+        upright = (not obs.fallen and not (obs.motion is not None and obs.motion.is_stand_up)
+                   and obs.accelerometer_mps2[2] > UPRIGHT_ACCELERATION_MPS2)
+        omega = obs.gyro_radps[2] if upright else 0.0
         moved = _arc(vx, vy, omega, DT_S)
         self.locator.move(moved)
         self.ball.predict(DT_S, moved)
