@@ -59,6 +59,8 @@ class WorldSnapshot:
     previous_velocity: dict
     accelerations: dict
     rng_state: dict
+    imu_rng_state: dict
+    imu_bias: dict
 
 
 class World:
@@ -91,6 +93,7 @@ class World:
             self.close()
             raise
         self.rng = np.random.default_rng(seed)
+        self._draw_imu_bias()
         self._initial = self.save_state()
 
     # ---- construction ---------------------------------------------------------------
@@ -162,6 +165,21 @@ class World:
             self.rng = rng
         elif rng is not None:
             self.rng = np.random.default_rng(rng)
+        if rng is not None:
+            self._draw_imu_bias()
+
+    def _draw_imu_bias(self) -> None:
+        """A generator of its own for the inertial sensors' noise (seeded from the world's), and
+        each robot's constant gyro and accelerometer biases."""
+        self._imu_rng = np.random.default_rng(int(self.rng.integers(0, 2**63)))
+        noise = self.config.imu_noise
+        self._imu_bias = {
+            rid: (
+                tuple(float(v) for v in self._imu_rng.normal(0.0, 1.0, 3) * noise.gyro_bias_sigma_radps),
+                tuple(float(v) for v in self._imu_rng.normal(0.0, 1.0, 3) * noise.accelerometer_bias_sigma_mps2),
+            )
+            for rid in self._bodies
+        }
 
     def save_state(self) -> WorldSnapshot:
         controllers = {
@@ -177,6 +195,8 @@ class World:
             previous_velocity=dict(self._previous_velocity),
             accelerations=dict(self._accelerations),
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
+            imu_rng_state=copy.deepcopy(self._imu_rng.bit_generator.state),
+            imu_bias=copy.deepcopy(self._imu_bias),
         )
 
     def discard_state(self, snapshot: WorldSnapshot) -> None:
@@ -200,6 +220,8 @@ class World:
         self._previous_velocity = dict(snapshot.previous_velocity)
         self._accelerations = dict(snapshot.accelerations)
         self.rng.bit_generator.state = copy.deepcopy(snapshot.rng_state)
+        self._imu_rng.bit_generator.state = copy.deepcopy(snapshot.imu_rng_state)
+        self._imu_bias = copy.deepcopy(snapshot.imu_bias)
 
     def _clear_contact_caches(self) -> None:
         """Drop cached contact pairs, which a restored state does not overwrite.
@@ -348,6 +370,7 @@ class World:
         rays = [ray for rid in ids for ray in sonar_rays(client, self._bodies[rid], self.config.sonar)]
         hits = pb.rayTestBatch([r[0] for r in rays], [r[1] for r in rays], physicsClientId=client) if rays else []
         rays_per_robot = 4 * len(self.config.sonar.cone_offsets_rad)
+        noise = self.config.imu_noise
         readings = {}
         for i, rid in enumerate(ids):
             body = self._bodies[rid]
@@ -357,17 +380,27 @@ class World:
             _, angular = pb.getBaseVelocity(body, physicsClientId=client)
             ax, ay, az = self._accelerations[rid]
             yaw, pitch = head_angles(client, body)
+            gyro_bias, accelerometer_bias = self._imu_bias[rid]
             readings[rid] = SensorReading(
                 head_yaw_rad=yaw,
                 head_pitch_rad=pitch,
                 camera=controller.camera,
-                accelerometer_mps2=to_torso(m, (ax, ay, az + GRAVITY_MPS2)),
-                gyro_radps=to_torso(m, angular),
+                accelerometer_mps2=self._imu_reading(
+                    to_torso(m, (ax, ay, az + GRAVITY_MPS2)), accelerometer_bias, noise.accelerometer_noise_sigma_mps2
+                ),
+                gyro_radps=self._imu_reading(to_torso(m, angular), gyro_bias, noise.gyro_noise_sigma_radps),
                 sonar_m=sonar_distances(hits[i * rays_per_robot : (i + 1) * rays_per_robot], self.config.sonar),
                 bumpers=bumpers(client, body, self._ground_ids),
                 motion=controller.status(self.time_s),
             )
         return readings
+
+    def _imu_reading(
+        self, true: tuple[float, float, float], bias: tuple[float, ...], sigma: float
+    ) -> tuple[float, float, float]:
+        """A reading: the true value plus the robot's bias plus white noise (drawn even when zero)."""
+        white = self._imu_rng.normal(0.0, 1.0, 3) * sigma
+        return (true[0] + bias[0] + float(white[0]), true[1] + bias[1] + float(white[1]), true[2] + bias[2] + float(white[2]))
 
     def motion_status(self, robot_id: str) -> MotionStatus:
         return self._controllers[self._check_robot(robot_id)].status(self.time_s)
