@@ -11,8 +11,9 @@ Whoever needs to watch the run (a localization-sample collector, a logger) passe
 :class:`MatchObserver`: it sees the match after the policies decided each step, and can end
 the run.
 
-Outputs in ``out_dir``: ``summary.json``, ``events.jsonl`` (one event per line) and
-``match_log.npz`` (see :mod:`match.log`).
+Outputs in ``out_dir``: ``summary.json`` (with each team's match statistics, see
+:mod:`match.statistics`), ``events.jsonl`` (one event per line) and ``match_log.npz`` (see
+:mod:`match.log`).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import platform
 import time
 import traceback
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
 from typing import Protocol
@@ -38,6 +39,7 @@ from match.protocol.actions import Action, parse_action
 from match.protocol.game_control import SecondaryState
 from match.protocol.ids import Side
 from match.protocol.policy import Policy, PoseReporter, PoseTuple
+from match.statistics import TeamRadio, match_statistics
 
 log = logging.getLogger(__name__)
 
@@ -92,6 +94,7 @@ class MatchSummary:
     events_count: int
     radio: dict
     faults: dict
+    statistics: dict | None = None  # per team (match.statistics), when the match wrote its outputs
 
     @property
     def real_time_factor(self) -> float:
@@ -110,6 +113,7 @@ class MatchSummary:
             "events_count": self.events_count,
             "radio": self.radio,
             "faults": self.faults,
+            "statistics": self.statistics,
             "config": {
                 "home_players": config.home_players,
                 "away_players": config.away_players,
@@ -148,6 +152,7 @@ def run_match(
         out_dir.mkdir(parents=True, exist_ok=True)
     events_file = open(out_dir / "events.jsonl", "w", encoding="utf-8") if out_dir else None
     faults = FaultRecord()
+    radio = TeamRadio()
     match_log = MatchLog(match.agent_names)
     started = time.perf_counter()
     observations = match.reset(seed)
@@ -174,6 +179,8 @@ def run_match(
                 observer.decided(match, actions)
             result = match.step(actions)
             observations = result.observations
+            radio.actions(actions)
+            radio.observations(observations)
             steps += 1
             _write_events(events_file, result.events)
             match_log.record(match, _estimates(policies))
@@ -188,8 +195,12 @@ def run_match(
         if out_dir is not None:
             match_log.save(out_dir / "match_log.npz")
     wall = time.perf_counter() - started
-    summary = _summarize(match, seed, wall, steps, faults)
+    summary = _summarize(match, seed, wall, steps, faults, radio)
     if out_dir is not None:
+        with np.load(out_dir / "match_log.npz") as arrays:  # the statistics read what was written
+            statistics = match_statistics([e.to_json() for e in match.events], arrays,
+                                          {"radio": summary.radio, "faults": summary.faults})
+        summary = replace(summary, statistics=statistics)
         (out_dir / "summary.json").write_text(json.dumps(summary.to_json(config), indent=2) + "\n", encoding="utf-8")
     how = "finished" if match.finished else f"stopped after {steps} steps"
     log.info("match %s: %s in %.1f s of simulated time (%.2fx real time)", how, summary.score, summary.sim_seconds,
@@ -230,7 +241,7 @@ def _update_bar(bar, match: Match, total_play_s: float, wall_s: float) -> None:
     bar.set_postfix_str(f"score {score}, sim {match.world.time_s:.0f} s, {match.world.time_s / max(wall_s, 1e-9):.2f}x")
 
 
-def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRecord) -> MatchSummary:
+def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRecord, radio: TeamRadio) -> MatchSummary:
     referee = match.referee
     shootout = None
     if referee.shootout is not None:
@@ -248,7 +259,7 @@ def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRe
         wall_seconds=wall,
         steps=steps,
         events_count=len(match.events),
-        radio=match.radio.counts.to_json(),
+        radio={**match.radio.counts.to_json(), "by_side": radio.to_json()},
         faults=faults.to_json(),
     )
 

@@ -62,3 +62,23 @@ class RadioFuzzer(Spinner):
         else:
             data = b"RS" + bytes(125)
         return make_action(Motion.STAND, camera=CameraChoice.OFF, radio=data)
+
+
+class ExitsAtHome(Spinner):
+    """Kills its own process (``os._exit(3)``) on its 50th act when it plays for the home team."""
+
+    def act(self, observation: dict) -> dict:
+        self.steps += 1
+        if self.steps == 50 and self.agent_id.startswith("home"):
+            os._exit(3)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
+
+
+class RaisesEveryTenth(Spinner):
+    """Raises on every 10th act; stands otherwise."""
+
+    def act(self, observation: dict) -> dict:
+        self.steps += 1
+        if self.steps % 10 == 0:
+            raise RuntimeError(f"act {self.steps} of {self.agent_id} fails")
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)

@@ -36,12 +36,6 @@ SIGMA_PER_M = 0.10  # growth of the position sigma per metre walked ...
 SIGMA_PER_RAD = 0.03  # ... and per radian turned
 SIGMA_RAD_PER_M = math.radians(4.0)  # growth of the heading sigma per metre walked ...
 SIGMA_RAD_PER_RAD = 0.08  # ... and per radian turned
-JUMP_M = 0.7  # a fix this far from the pose (or 3 sigma) ...
-JUMP_RAD = math.radians(40.0)  # ... or turned this much from it ...
-JUMP_CONFIRMATIONS = 3  # ... is believed after this many fixes in a row agree on it ...
-JUMP_AGREE_M = 0.5  # ... within this distance of each other
-DOUBT_SIGMA_M = 0.15  # a refused fix widens the pose's uncertainty by this much ...
-DOUBT_SIGMA_RAD = math.radians(6.0)  # ... and the heading's by this much
 MIN_SIGMA_M = 0.02
 MIN_SIGMA_RAD = math.radians(1.0)
 MAX_SIGMA_M = 5.0
@@ -58,7 +52,6 @@ class SelfLocator:
         self.sigma_rad = MAX_SIGMA_RAD
         self.last_fix: PoseEstimate | None = None
         self._pending = Displacement(0.0, 0.0, 0.0)
-        self._jumps: list[PoseEstimate] = []
 
     @property
     def pose(self) -> Pose2D | None:
@@ -95,18 +88,9 @@ class SelfLocator:
         if not percepts:
             return None
         self._flush()
-        before = self.localizer.pose
         estimate = self.localizer.localize(percepts)
         if estimate is None or estimate.source is EstimateSource.ODOMETER:
             return None
-        if before is not None and self._implausible_jump(before, estimate):
-            # Back to where the robot was: the jump is not believed yet, but the doubt grows, so
-            # that a real kidnapping is accepted after a few fixes even if they scatter.
-            self.localizer.reset(before)
-            self.sigma_m = min(MAX_SIGMA_M, self.sigma_m + DOUBT_SIGMA_M)
-            self.sigma_rad = min(MAX_SIGMA_RAD, self.sigma_rad + DOUBT_SIGMA_RAD)
-            return None
-        self._jumps = []
         self.last_fix = estimate
         if estimate.covariance is not None:
             cov = np.asarray(estimate.covariance, float)
@@ -116,19 +100,6 @@ class SelfLocator:
             sigma_m, sigma_rad = FIX_SIGMA_M, FIX_SIGMA_RAD
         self.sigma_m, self.sigma_rad = max(sigma_m, MIN_SIGMA_M), max(sigma_rad, MIN_SIGMA_RAD)
         return estimate
-
-    def _implausible_jump(self, before: Pose2D, estimate: PoseEstimate) -> bool:
-        """Whether a fix far from a confident pose should be refused: a kidnapping (the referee
-        moved the robot, a push turned it) is believed only when :data:`JUMP_CONFIRMATIONS`
-        fixes in a row agree on it."""
-        far = math.hypot(estimate.x_m - before.x, estimate.y_m - before.y) > max(JUMP_M, 3.0 * self.sigma_m)
-        turned = abs(math.remainder(estimate.theta_rad - before.theta, math.tau)) > max(JUMP_RAD, 3.0 * self.sigma_rad)
-        if not (far or turned):
-            self._jumps = []
-            return False
-        agree = [j for j in self._jumps if math.hypot(j.x_m - estimate.x_m, j.y_m - estimate.y_m) < JUMP_AGREE_M]
-        self._jumps = [*agree, estimate]
-        return len(self._jumps) < JUMP_CONFIRMATIONS
 
     def _flush(self) -> None:
         pending = self._pending

@@ -120,6 +120,25 @@ def add_out_dir(parser: argparse.ArgumentParser, default: Path | None = None) ->
         parser.add_argument("--out", type=Path, default=default, metavar="DIR", help=f"output directory (default {default})")
 
 
+def add_batch_arguments(parser: argparse.ArgumentParser, unit: str) -> None:
+    """``--workers``, ``--backend``, ``--ray-address`` and ``--resume`` of a batch of ``unit`` (e.g. "runs")."""
+    parser.add_argument("--workers", type=int, default=None, metavar="W",
+                        help=f"{unit} at once, in local processes or Ray CPUs (default: all cores)")
+    parser.add_argument("--backend", choices=("local", "ray"), default="local",
+                        help="local processes (default) or Ray tasks (needs the ray extra)")
+    parser.add_argument("--ray-address", default=None, metavar="ADDRESS",
+                        help="Ray cluster to join (default: start a local Ray instance)")
+    parser.add_argument("--resume", action="store_true", help=f"keep the finished {unit} in --out and run the rest")
+
+
+def batch_options(args: argparse.Namespace):
+    """The :class:`~scenarios.common.batch.BatchOptions` of :func:`add_batch_arguments` and ``--no-progress``."""
+    from scenarios.common.batch import BatchOptions, default_workers
+
+    workers = args.workers if args.workers is not None else default_workers()
+    return BatchOptions(workers, args.backend, args.ray_address, args.resume, args.progress)
+
+
 def add_no_progress(parser: argparse.ArgumentParser) -> None:
     """``--no-progress``: ``args.progress`` is False."""
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")

@@ -11,7 +11,8 @@ NAME = "match"
 HELP = "run a full match headless between policies chosen by name"
 DESCRIPTION = (
     "Play a match (two halves, kick-offs, goals, throw-ins, half-time, penalty shoot-out on a tie) "
-    "and write summary.json, events.jsonl and match_log.npz into --out. A policy is a built-in name "
+    "and write summary.json, events.jsonl and match_log.npz into --out, then the replay page replay.html "
+    "and the figures traces.png and localization.png (--no-replay: not those). A policy is a built-in name "
     "(scripted, scan_localize, stand) or a class of yours as package.module:ClassName."
 )
 
@@ -32,6 +33,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
                         help="decide a tie by penalty shoot-out (default: yes)")
+    parser.add_argument("--no-replay", dest="replay", action="store_false",
+                        help="do not write the replay page and figures (replay.html, traces.png, localization.png)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -53,4 +56,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"{result}; {summary.sim_seconds:.0f} s simulated in {summary.wall_seconds:.0f} s "
           f"({summary.real_time_factor:.2f}x real time)")
     print(Path(args.out) / "summary.json")
+    if args.replay:
+        from scenarios.replay import write_replay
+
+        for path in write_replay(args.out, plots=True):
+            print(path)
     return EXIT_OK

@@ -9,8 +9,10 @@ from pathlib import Path
 from scenarios.cli.arguments import (
     EXIT_INTERRUPTED,
     EXIT_OK,
+    add_batch_arguments,
     add_no_progress,
     add_out_dir,
+    batch_options,
     localizer_names,
     name_list,
     positive_int,
@@ -33,24 +35,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=None, help="seed of the runs (default: the scenario file's)")
     parser.add_argument("--methods", type=name_list(localizer_names), default=None, metavar="M1,M2",
                         help="localization methods, comma-separated (default: the scenario file's)")
-    parser.add_argument("--workers", type=positive_int, default=None, metavar="W",
-                        help="runs at once, in local processes or Ray CPUs (default: all cores)")
+    add_batch_arguments(parser, "runs")
     add_out_dir(parser, Path("out/scenarios"))
-    parser.add_argument("--backend", choices=("local", "ray"), default="local",
-                        help="local processes (default) or Ray tasks (needs the ray extra)")
-    parser.add_argument("--ray-address", default=None, metavar="ADDRESS",
-                        help="Ray cluster to join (default: start a local Ray instance)")
-    parser.add_argument("--resume", action="store_true", help="keep the finished runs in --out and run the rest")
     add_no_progress(parser)
 
 
 def run(args: argparse.Namespace) -> int:
     # the simulation, the report's matplotlib and scipy: only when run
-    from scenarios.localization.batch import BatchOptions, default_workers, run_named
+    from scenarios.localization.batch import run_named
     from scenarios.localization.tables import table_markdown
 
-    options = BatchOptions(args.workers or default_workers(), args.backend, args.ray_address, args.resume,
-                           args.progress)
+    options = batch_options(args)
     try:
         reports = run_named(args.scenarios, args.out, options, samples=args.samples, seed=args.seed,
                             methods=args.methods)

@@ -1,31 +1,29 @@
 """The batch of a scenario: its runs on local processes or Ray tasks, resumable, and its report.
 
-Every finished run is written at once to ``DIR/runs/run_NNNN.json`` (atomically), so a
-batch interrupted with Ctrl-C or killed keeps what it finished, and ``resume=True``
-continues without recomputing those runs. The report is built from the run files in run
-order, so it is the same whatever the number of workers or the backend.
+The runs go through the batch engine (:mod:`scenarios.common.batch`). Every finished run is
+written at once to ``DIR/runs/run_NNNN.json`` (atomically), so a batch interrupted with
+Ctrl-C or killed keeps what it finished, and ``resume=True`` continues without recomputing
+those runs. The report is built from the run files in run order, so it is the same whatever
+the number of workers or the backend. A run that fails (its error, or its process died
+twice) is not kept: the others finish, then the batch stops with the failures named, and
+``--resume`` runs the failed ones again.
 """
 
 from __future__ import annotations
 
-import concurrent.futures
 import dataclasses
-import json
 import logging
-import multiprocessing
-import os
-import queue
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 from tqdm import tqdm
 
 from match.runner import package_versions
-from scenarios.common.io import write_text, write_text_atomic
+from scenarios.common.batch import BACKENDS, BatchError, BatchOptions, ResultStore, default_workers, execute
 from scenarios.localization.figures import plot_errors, plot_traces
 from scenarios.localization.file import BUILTIN_SCENARIOS, load_scenario
-from scenarios.localization.run import RunOutcome, RunTask, run_tasks, simulate_run
+from scenarios.localization.run import RunOutcome, run_tasks, simulate_run
 from scenarios.localization.samples import LocalizationSample
 from scenarios.localization.spec import ScenarioSpec
 from scenarios.localization.statistics import ScenarioReport
@@ -37,38 +35,14 @@ from scenarios.localization.tables import (
     write_summary_json,
 )
 
+__all__ = ["BACKENDS", "BatchOptions", "RunStore", "ScenarioBatchError", "default_workers", "run_named", "run_scenario"]
+
 log = logging.getLogger(__name__)
 
-BACKENDS = ("local", "ray")
 RUNS_DIR = "runs"
 SCENARIO_FILE = "scenario.json"
-_POLL_S = 0.2
 
-
-class ScenarioBatchError(ValueError):
-    """A batch that cannot start: a bad backend, a missing extra, a directory of another scenario."""
-
-
-@dataclasses.dataclass(frozen=True)
-class BatchOptions:
-    """How to run: ``workers`` processes (or Ray CPUs), the backend, resuming, a progress bar."""
-
-    workers: int = 1
-    backend: str = "local"
-    ray_address: str | None = None
-    resume: bool = False
-    progress: bool = True
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.workers, int) or self.workers < 1:
-            raise ScenarioBatchError(f"workers = {self.workers!r}; expected an integer >= 1")
-        if self.backend not in BACKENDS:
-            raise ScenarioBatchError(f"backend = {self.backend!r}; expected one of {', '.join(BACKENDS)}")
-
-
-def default_workers() -> int:
-    """All cores of this machine."""
-    return max(1, os.cpu_count() or 1)
+ScenarioBatchError = BatchError  # a batch that cannot start (bad options, a directory of another scenario)
 
 
 def run_scenario(spec: ScenarioSpec, key: str, out_dir: Path, options: BatchOptions = BatchOptions()) -> ScenarioReport:
@@ -83,13 +57,20 @@ def run_scenario(spec: ScenarioSpec, key: str, out_dir: Path, options: BatchOpti
         log.info("%s: %d of %d runs already in %s", spec.name, len(done), len(tasks), out_dir)
     bar = tqdm(total=spec.samples, initial=sum(o.events for o in done.values()),
                unit="sample", desc=spec.name, disable=not options.progress, dynamic_ncols=True)
+    failures = []
     try:
-        execute = _execute_ray if options.backend == "ray" else _execute_local
-        for outcome in execute(pending, options, lambda n=1: bar.update(n)):
-            store.save(outcome)
-            done[outcome.run] = outcome
+        for result in execute(pending, simulate_run, options, lambda n=1: bar.update(n),
+                              units=lambda outcome: outcome.events, label=lambda task: f"{spec.name} run {task.run}"):
+            if result.failed:
+                failures.append(f"run {result.task.run}: {result.error}")
+                continue
+            store.save(result.value)
+            done[result.value.run] = result.value
     finally:
         bar.close()
+    if failures:
+        raise ScenarioBatchError(f"{spec.name}: {len(failures)} run(s) failed ({'; '.join(failures)}); the finished "
+                                 f"runs are kept in {store.runs_dir}: run again with --resume to retry the failed ones")
     outcomes = [done[t.run] for t in tasks]
     samples = tuple(s for o in outcomes for s in o.samples)
     report = ScenarioReport(
@@ -112,131 +93,27 @@ class RunStore:
     """The run files of one scenario in ``out_dir``; a fresh batch clears them, a resumed one checks them."""
 
     def __init__(self, out_dir: Path, spec: ScenarioSpec, resume: bool):
-        self.runs_dir = out_dir / RUNS_DIR
-        self.fingerprint = spec.fingerprint()
-        marker = out_dir / SCENARIO_FILE
-        if resume and marker.exists():
-            stored = json.loads(marker.read_text(encoding="utf-8")).get("fingerprint")
-            if stored != self.fingerprint:
-                raise ScenarioBatchError(
-                    f"{out_dir} holds runs of another scenario or settings (fingerprint {stored}); expected "
-                    f"{self.fingerprint} for {spec.name!r}: run without --resume to start over, or use another --out"
-                )
-        self.runs_dir.mkdir(parents=True, exist_ok=True)
-        if not resume:
-            for old in self.runs_dir.glob("run_*.json"):
-                old.unlink()
-        write_text(marker, json.dumps({"scenario": spec.name, "fingerprint": self.fingerprint}) + "\n")
+        self.runs_dir = Path(out_dir) / RUNS_DIR
+        self._store = ResultStore(out_dir, fingerprint=spec.fingerprint(), settings={"scenario": spec.name},
+                                  resume=resume, marker=SCENARIO_FILE, subdir=RUNS_DIR, prefix="run", key="run",
+                                  what="runs")
 
     def load(self) -> dict[int, RunOutcome]:
-        done = {}
-        for path in sorted(self.runs_dir.glob("run_*.json")):
-            data = json.loads(path.read_text(encoding="utf-8"))
-            if data.get("fingerprint") != self.fingerprint:
-                log.warning("ignoring %s: written for another scenario", path)
-                continue
-            outcome = RunOutcome(
-                data["run"], data["seed"], tuple(LocalizationSample(**row) for row in data["samples"]),
-                data["sim_seconds"], data["wall_seconds"], data["complete"],
-            )
-            done[outcome.run] = outcome
-        return done
+        return {
+            run: RunOutcome(data["run"], data["seed"], tuple(LocalizationSample(**row) for row in data["samples"]),
+                            data["sim_seconds"], data["wall_seconds"], data["complete"])
+            for run, data in self._store.load().items()
+        }
 
     def save(self, outcome: RunOutcome) -> None:
-        data = {
-            "fingerprint": self.fingerprint,
+        self._store.save(outcome.run, {
             "run": outcome.run,
             "seed": outcome.seed,
             "sim_seconds": outcome.sim_seconds,
             "wall_seconds": outcome.wall_seconds,
             "complete": outcome.complete,
             "samples": [dataclasses.asdict(s) for s in outcome.samples],
-        }
-        # NaN kept as NaN: Python's JSON reads it
-        write_text_atomic(self.runs_dir / f"run_{outcome.run:04d}.json", json.dumps(data) + "\n")
-
-
-# ---- backends ----------------------------------------------------------------------------------
-
-Progress = Callable[..., None]
-
-
-def _execute_local(tasks: Sequence[RunTask], options: BatchOptions, progress: Progress) -> Iterator[RunOutcome]:
-    """Runs in this process (one worker) or in a pool of fresh processes; outcomes as they finish."""
-    if not tasks:
-        return
-    if options.workers == 1 or len(tasks) == 1:
-        for task in tasks:
-            yield simulate_run(task, lambda run: progress())
-        return
-    context = multiprocessing.get_context("spawn")  # fresh interpreters: no state shared with this one
-    samples_done = context.Queue()
-    with concurrent.futures.ProcessPoolExecutor(
-        max_workers=min(options.workers, len(tasks)), mp_context=context, initializer=_init_worker,
-        initargs=(samples_done,),
-    ) as pool:
-        futures = {pool.submit(_simulate_in_worker, task) for task in tasks}
-        try:
-            while futures:
-                finished, futures = concurrent.futures.wait(futures, timeout=_POLL_S,
-                                                            return_when=concurrent.futures.FIRST_COMPLETED)
-                _drain(samples_done, progress)
-                for future in finished:
-                    yield future.result()
-        except BaseException:
-            for future in futures:
-                future.cancel()
-            raise
-        finally:
-            _drain(samples_done, progress)
-
-
-_worker_queue = None
-
-
-def _init_worker(samples_done) -> None:
-    global _worker_queue
-    _worker_queue = samples_done
-
-
-def _simulate_in_worker(task: RunTask) -> RunOutcome:
-    return simulate_run(task, _worker_queue.put if _worker_queue is not None else None)
-
-
-def _drain(samples_done, progress: Progress) -> None:
-    while True:
-        try:
-            samples_done.get_nowait()
-        except queue.Empty:
-            return
-        progress()
-
-
-def _execute_ray(tasks: Sequence[RunTask], options: BatchOptions, progress: Progress) -> Iterator[RunOutcome]:
-    """The same runs as Ray tasks on the cluster at ``ray_address``, or on a local Ray instance."""
-    try:
-        import ray
-    except ImportError:
-        raise ScenarioBatchError("backend 'ray' needs Ray: pip install 'robotstadium[ray]'") from None
-    if not tasks:
-        return
-    started_here = not ray.is_initialized()
-    if started_here:
-        if options.ray_address is None:
-            ray.init(num_cpus=options.workers, include_dashboard=False, log_to_driver=False)
-        else:
-            ray.init(address=options.ray_address, log_to_driver=False)
-    try:
-        remote = ray.remote(num_cpus=1)(simulate_run)
-        pending = [remote.remote(task) for task in tasks]
-        while pending:
-            finished, pending = ray.wait(pending, num_returns=1)
-            outcome = ray.get(finished[0])
-            progress(outcome.events)
-            yield outcome
-    finally:
-        if started_here:
-            ray.shutdown()
+        })
 
 
 # ---- several scenarios, as the command line names them --------------------------------------

@@ -54,9 +54,12 @@ class Lineup:
             raise LineupError(str(error)) from None
 
 
-def match_config(home: int = 4, away: int = 4, half_seconds: float = 600.0, shootout: bool = True) -> MatchConfig:
+def match_config(home: int = 4, away: int = 4, half_seconds: float = 600.0, shootout: bool = True,
+                 referee: Mapping[str, object] | None = None) -> MatchConfig:
+    """The match of ``home`` against ``away`` robots; ``referee``: other referee settings (RefereeConfig fields)."""
     config = MatchConfig(home_players=home, away_players=away)
-    return replace(config, referee=replace(config.referee, half_seconds=half_seconds, shootout=shootout))
+    settings = {**(referee or {}), "half_seconds": half_seconds, "shootout": shootout}
+    return replace(config, referee=replace(config.referee, **settings))
 
 
 def run_lineup_match(
@@ -70,9 +73,14 @@ def run_lineup_match(
     shootout: bool = True,
     progress: bool = True,
     max_steps: int | None = None,
+    referee: Mapping[str, object] | None = None,
 ) -> MatchSummary:
-    """Play one match of ``home`` against ``away`` robots with the line-up's policies."""
-    config = match_config(home, away, half_seconds, shootout)
+    """Play one match of ``home`` against ``away`` robots with the line-up's policies.
+
+    ``referee``: referee settings other than the half's length and the shoot-out (e.g. the
+    tournament's shorter pauses before the kick-off, for tests).
+    """
+    config = match_config(home, away, half_seconds, shootout, referee)
     policies = lineup.policies(roster(home, away))  # refused here, before the world is built
     match = Match(config)
     try:
