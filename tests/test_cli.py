@@ -160,3 +160,10 @@ def test_localize_prints_one_row_per_method(capsys: pytest.CaptureFixture[str]) 
     assert cli.main(["localize", "--samples", "2", "--seed", "1", "--methods", "thesis,odometry"]) == 0
     out = capsys.readouterr().out
     assert "| thesis | " in out and "| odometry | " in out and "2 samples" in out
+
+
+@pytest.mark.parametrize("command", [c.NAME for c in cli.SUBCOMMANDS])
+def test_every_command_prints_its_help(command: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main([command, "--help"])
+    assert exit_info.value.code == 0 and command in capsys.readouterr().out

@@ -1,0 +1,213 @@
+"""Match statistics: what each team did in one match, from its events, its log and its summary.
+
+:func:`match_statistics` is pure: it reads the events as written to ``events.jsonl`` (dicts
+with ``time_s``, ``kind`` and the details), the arrays of ``match_log.npz`` and the
+summary's ``radio`` and ``faults`` blocks, and returns one dict per team. Teams are named by
+side (``home``, ``away``), never by colour: colours and goals swap at half-time.
+
+Definitions (playing time is the game state PLAYING before the penalty shoot-out; the
+shoot-out's kicks count for nothing here):
+
+- ``goals``: goals the team scored in playing time (an opponent's own goal included);
+  ``own_goals``: goals into the team's own goal that one of its robots touched last;
+- ``shots_on_target``: touches of the team after which (before the next touch) the ball
+  moves toward the goal line inside the goal area the team attacks (the 0.6 x 2.2 m area
+  and the goal behind it); one per touch, so a shot that scores counts once;
+- ``touches``: ball touches in playing time (the referee's touch events);
+- ``possession``: share of playing time in which the team touched the ball last (time
+  before the first touch counts for neither team; NaN-free: None when nobody touched it);
+- ``balls_out``: balls out of the field the team touched last;
+- ``falls``, ``robots_replaced`` (off the carpet or down too long), ``faults`` (policy
+  failures): over the whole match;
+- ``radio_sent``, ``radio_dropped`` (over the send budget), ``radio_received`` (packets in
+  the team's inboxes): over the whole match, from the runner's per-team radio counts;
+- ``position_error_mean_m``, ``position_error_p95_m``, ``orientation_error_mean_deg``,
+  ``orientation_error_p95_deg``: over every control step of playing time and every robot
+  of the team whose policy reported a pose estimate (None when none did);
+  ``pose_estimates`` counts those robot-steps.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from match.protocol.actions import Action
+from match.protocol.game_control import GameState
+from world.field import FIELD
+
+SIDES = ("home", "away")
+PLAYING = int(GameState.PLAYING)
+SHOOTOUT = "PENALTY_SHOOTOUT"  # the secondary state of the shoot-out's state events
+PLACED_STEP_M = 0.3  # a ball moving this far in one 40 ms step (7.5 m/s) was placed, not played
+GOALWARD_STEP_M = 1e-3  # moving toward the goal line: at least this far in one step (2.5 cm/s)
+TIME_TOLERANCE_S = 1e-3  # event times are rounded to the millisecond
+
+TEAM_KEYS = (
+    "goals",
+    "own_goals",
+    "shots_on_target",
+    "touches",
+    "possession",
+    "balls_out",
+    "falls",
+    "robots_replaced",
+    "radio_sent",
+    "radio_dropped",
+    "radio_received",
+    "faults",
+    "pose_estimates",
+    "position_error_mean_m",
+    "position_error_p95_m",
+    "orientation_error_mean_deg",
+    "orientation_error_p95_deg",
+)
+
+
+def side_of(robot: object) -> str | None:
+    """``home`` or ``away`` for a robot id such as ``home_2``; None for anything else."""
+    if isinstance(robot, str):
+        side = robot.partition("_")[0]
+        if side in SIDES:
+            return side
+    return None
+
+
+def attack_direction(side: str, half: int) -> int:
+    """+1 when ``side`` attacks the goal at x = +3 in ``half``, else -1 (home defends blue, x = -3, first)."""
+    first = 1 if side == "home" else -1
+    return first if half == 1 else -first
+
+
+def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], summary: Mapping) -> dict:
+    """``{"playing_seconds": s, "home": {...}, "away": {...}}`` with the keys of :data:`TEAM_KEYS`."""
+    cut = _shootout_index(events)
+    play_events = events[:cut]
+    shootout_s = float(events[cut]["time_s"]) if cut < len(events) else math.inf
+    teams = {side: dict.fromkeys(TEAM_KEYS, 0) for side in SIDES}
+
+    for event in play_events:
+        kind = event["kind"]
+        if kind == "goal":
+            teams[event["team"]]["goals"] += 1
+            toucher = side_of(event.get("last_toucher"))
+            if toucher is not None and toucher != event["team"]:
+                teams[toucher]["own_goals"] += 1
+        elif kind == "touch" and side_of(event.get("robot")):
+            teams[side_of(event["robot"])]["touches"] += 1
+        elif kind == "ball_out" and side_of(event.get("last_toucher")):
+            teams[side_of(event["last_toucher"])]["balls_out"] += 1
+    for event in events:
+        counter = {"fall": "falls", "robot_replaced": "robots_replaced"}.get(event["kind"])
+        if counter and side_of(event.get("robot")):
+            teams[side_of(event["robot"])][counter] += 1
+
+    for agent, count in (summary.get("faults") or {}).get("by_agent", {}).items():
+        if side_of(agent):
+            teams[side_of(agent)]["faults"] += int(count)
+    by_side = (summary.get("radio") or {}).get("by_side")
+    for side in SIDES:
+        radio = (by_side or {}).get(side)
+        for key in ("sent", "dropped", "received"):
+            teams[side][f"radio_{key}"] = int(radio[key]) if radio else None
+
+    playing_seconds = _from_log(teams, play_events, log, shootout_s)
+    return {"playing_seconds": round(playing_seconds, 3), **teams}
+
+
+def _shootout_index(events: Sequence[Mapping]) -> int:
+    """The index of the first event of the penalty shoot-out (len(events) without one)."""
+    for i, event in enumerate(events):
+        if event["kind"] == "state" and event.get("secondary") == SHOOTOUT:
+            return i
+    return len(events)
+
+
+def _from_log(teams: dict, play_events: Sequence[Mapping], log: Mapping[str, np.ndarray], shootout_s: float) -> float:
+    """Possession, shots on target and pose-estimate errors into ``teams``; returns the playing seconds."""
+    time_s = np.asarray(log["time_s"], dtype=float)
+    state = np.asarray(log["state"])
+    half = np.asarray(log["half"])
+    ball = np.asarray(log["ball"], dtype=float)
+    rows = np.arange(1, time_s.size)
+    rows = rows[(state[rows] == PLAYING) & (time_s[rows] <= shootout_s + TIME_TOLERANCE_S)]
+    dt = time_s[rows] - time_s[rows - 1]
+
+    touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in play_events if e["kind"] == "touch"]
+    touch_times = np.array([t for t, _ in touches], dtype=float)
+    # the touch each row's ball was last touched by (-1: none yet)
+    last = np.searchsorted(touch_times, time_s[rows] + TIME_TOLERANCE_S, side="right") - 1
+    owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
+
+    held = {side: float(dt[owner == side].sum()) for side in SIDES}
+    total = held["home"] + held["away"]
+    step = ball[rows, :2] - ball[rows - 1, :2]
+    played = np.hypot(step[:, 0], step[:, 1]) < PLACED_STEP_M
+    x, y = ball[rows, 0], ball[rows, 1]
+    for side in SIDES:
+        teams[side]["possession"] = round(held[side] / total, 4) if total > 0 else None
+        g = np.array([attack_direction(side, int(h)) for h in half[rows]], dtype=float)
+        in_area = (g * x >= FIELD.goal_area_x) & (g * x <= FIELD.half_length + FIELD.goal_depth) & (
+            np.abs(y) <= FIELD.goal_area_half_width)
+        shot_rows = in_area & (g * step[:, 0] > GOALWARD_STEP_M) & played & (owner == side)
+        teams[side]["shots_on_target"] = int(np.unique(last[shot_rows]).size)
+    _pose_errors(teams, log, rows)
+    return float(dt.sum())
+
+
+def _pose_errors(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:
+    agents = [str(a) for a in np.asarray(log["agents"])]
+    truth = np.asarray(log["robots"], dtype=float)[rows]
+    estimates = np.asarray(log["estimates"], dtype=float)[rows]
+    for side in SIDES:
+        columns = [i for i, agent in enumerate(agents) if side_of(agent) == side]
+        true, est = truth[:, columns].reshape(-1, 3), estimates[:, columns].reshape(-1, 3)
+        known = np.isfinite(est).all(axis=1)
+        true, est = true[known], est[known]
+        position = np.hypot(est[:, 0] - true[:, 0], est[:, 1] - true[:, 1])
+        turn = np.angle(np.exp(1j * (est[:, 2] - true[:, 2])))  # wrapped to [-pi, pi]
+        orientation = np.degrees(np.abs(turn))
+        team = teams[side]
+        team["pose_estimates"] = int(known.sum())
+        for name, errors in (("position_error", position), ("orientation_error", orientation)):
+            unit = "m" if name == "position_error" else "deg"
+            empty = errors.size == 0
+            team[f"{name}_mean_{unit}"] = None if empty else round(float(np.mean(errors)), 4)
+            team[f"{name}_p95_{unit}"] = None if empty else round(float(np.percentile(errors, 95)), 4)
+
+
+class TeamRadio:
+    """Per-team radio counts of one match, fed by the runner every step.
+
+    ``sent``: packets the radio accepted; ``dropped``: packets over the send budget (each
+    robot reads its own in its next observation); ``received``: packets in the team's inboxes.
+    """
+
+    def __init__(self) -> None:
+        self._handed = dict.fromkeys(SIDES, 0)
+        self._dropped = dict.fromkeys(SIDES, 0)
+        self._received = dict.fromkeys(SIDES, 0)
+
+    def actions(self, actions: Mapping[str, Action | None]) -> None:
+        """The packets handed to the radio with this step's actions."""
+        for agent, action in actions.items():
+            if action is not None and action.radio and side_of(agent):
+                self._handed[side_of(agent)] += 1
+
+    def observations(self, observations: Mapping[str, Mapping]) -> None:
+        """The drops and inboxes the step's observations report."""
+        for agent, observation in observations.items():
+            side = side_of(agent)
+            radio = observation.get("radio") if side else None
+            if radio is not None:
+                self._dropped[side] += int(radio["dropped"])
+                self._received[side] += int(radio["count"])
+
+    def to_json(self) -> dict:
+        return {
+            side: {"sent": self._handed[side] - self._dropped[side], "dropped": self._dropped[side],
+                   "received": self._received[side]}
+            for side in SIDES
+        }

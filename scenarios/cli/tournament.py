@@ -1,0 +1,79 @@
+"""``robotstadium tournament``: many matches between policies, their statistics and a verdict."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from scenarios.cli.arguments import (
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    add_batch_arguments,
+    add_no_progress,
+    add_out_dir,
+    batch_options,
+    policy_name,
+)
+
+NAME = "tournament"
+HELP = "play many matches between policies and say, with 95%% intervals, which is better"
+DESCRIPTION = (
+    "Play --matches matches between two policies (the same name twice: self-play), or per pair of a round robin "
+    "between three or more, each pair half its matches with each policy at home; write matches/NNN/ (each match's "
+    "outputs), results.csv, summary.json, table.md, standings.png and, for three or more policies, ratings.png into "
+    "--out. A policy is a built-in name (scripted, scan_localize, stand) or package.module:ClassName. Finished "
+    "matches are kept; --resume continues an interrupted tournament."
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("policies", nargs="+", metavar="POLICY", help="two or more policies")
+    parser.add_argument("--matches", type=int, default=10, metavar="N",
+                        help="matches per pair (default 10), half with each policy at home")
+    parser.add_argument("--half-seconds", type=float, default=600.0, metavar="S",
+                        help="playing time of each half in simulated seconds (default 600)")
+    parser.add_argument("--players", type=int, default=4, metavar="K", help="robots per side, 1-4 (default 4)")
+    parser.add_argument("--seed", type=int, default=0, help="tournament seed; each match's is drawn from it (default 0)")
+    add_batch_arguments(parser, "matches")
+    add_out_dir(parser, Path("out/tournament"))
+    add_no_progress(parser)
+    parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
+                        help="decide a tie by penalty shoot-out (default: yes)")
+    # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds (part of the settings)
+    parser.add_argument("--pauses", default=None, help=argparse.SUPPRESS)
+
+
+def run(args: argparse.Namespace) -> int:
+    from scenarios.tournament.report import table_markdown
+    from scenarios.tournament.run import run_tournament
+    from scenarios.tournament.settings import TournamentError, TournamentSettings
+
+    for name in args.policies:  # as the match command names them (modules in the current directory too)
+        try:
+            policy_name(name)
+        except argparse.ArgumentTypeError as error:
+            raise TournamentError(f"POLICY: {error}") from None
+    settings = TournamentSettings(tuple(args.policies), args.matches, args.half_seconds, args.players, args.seed,
+                                  args.shootout, _pauses(args.pauses))
+    options = batch_options(args)
+    try:
+        report = run_tournament(settings, args.out, options)
+    except KeyboardInterrupt:
+        print(f"robotstadium tournament: interrupted; finished matches are kept in {args.out}: "
+              "run again with --resume to continue", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(table_markdown(report))
+    played = len(report.records) - len(report.failed)
+    print(f"{played} matches played, {len(report.failed)} failed, {report.wall_seconds:.0f} s wall; "
+          f"written to {args.out}")
+    return EXIT_OK
+
+
+def _pauses(text: str | None) -> tuple[float, ...] | None:
+    if text is None:
+        return None
+    try:
+        return tuple(float(part) for part in text.split(","))
+    except ValueError:
+        raise ValueError(f"--pauses {text!r}: expected three numbers of seconds, e.g. 0.2,0.4,0.2") from None

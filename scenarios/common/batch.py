@@ -1,0 +1,369 @@
+"""The batch engine of the scenarios and the tournaments: independent tasks on local processes
+or Ray, every result kept as it arrives, resumable.
+
+- :func:`execute` runs tasks with a module-level function ``work(task, tick)`` (``tick()``,
+  when not None, counts one unit of progress from inside a task) in this process, in a pool
+  of fresh (spawned) processes, or as Ray tasks, and yields a :class:`TaskResult` per task
+  as it finishes, in whatever order. A task that raises is a failure with its error. A task
+  whose worker process dies (``os._exit``, a crash in native code, the OOM killer) breaks
+  the pool: every task that was running in it is retried once, alone in a fresh process,
+  and the rest go on in a fresh pool; a task that kills its process again is a failure
+  with the exit code. On Ray, Ray retries a task whose worker died once.
+- :class:`ResultStore` keeps one JSON file per finished task in ``DIR/<subdir>/`` (written
+  atomically) with a fingerprint of the settings; a marker file in ``DIR`` names the
+  settings. A fresh batch clears the old files; a resumed one keeps those of the same
+  fingerprint and refuses a directory of other settings, naming both.
+
+A Ctrl-C (``KeyboardInterrupt``) stops the batch: tasks not finished are cancelled, the
+results already yielded (and stored by the caller) are kept for ``--resume``.
+"""
+
+from __future__ import annotations
+
+import collections
+import concurrent.futures
+import dataclasses
+import importlib.util
+import json
+import logging
+import multiprocessing
+import os
+import queue
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+from typing import Any
+
+from scenarios.common.io import write_text, write_text_atomic
+
+log = logging.getLogger(__name__)
+
+BACKENDS = ("local", "ray")
+RETRIES = 1  # a task whose worker process died runs once more
+_POLL_S = 0.2
+
+Work = Callable[[Any, Callable[..., None] | None], Any]
+Progress = Callable[..., None]  # progress(n=1): n more units done
+
+
+class BatchError(ValueError):
+    """A batch that cannot start: bad options, a missing extra, a directory of other settings."""
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchOptions:
+    """How to run: ``workers`` processes (or Ray CPUs), the backend, resuming, a progress bar."""
+
+    workers: int = 1
+    backend: str = "local"
+    ray_address: str | None = None
+    resume: bool = False
+    progress: bool = True
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.workers, int) or self.workers < 1:
+            raise BatchError(f"workers = {self.workers!r}; expected an integer >= 1")
+        if self.backend not in BACKENDS:
+            raise BatchError(f"backend = {self.backend!r}; expected one of {', '.join(BACKENDS)}")
+
+
+def default_workers() -> int:
+    """All cores of this machine."""
+    return max(1, os.cpu_count() or 1)
+
+
+def require_ray() -> None:
+    """:class:`BatchError` when Ray is not installed (check before writing anything)."""
+    if importlib.util.find_spec("ray") is None:
+        raise BatchError("backend 'ray' needs Ray: pip install 'robotstadium[ray]'")
+
+
+@dataclasses.dataclass(frozen=True)
+class TaskResult:
+    """What became of one task: its ``value``, or its ``error`` (one line); ``attempts`` it took."""
+
+    task: Any
+    value: Any = None
+    error: str | None = None
+    attempts: int = 1
+
+    @property
+    def failed(self) -> bool:
+        return self.error is not None
+
+
+def describe_error(error: BaseException) -> str:
+    """One line: the exception's type and message."""
+    text = " ".join(str(error).split())
+    return f"{type(error).__name__}: {text}" if text else type(error).__name__
+
+
+# ---- running tasks ---------------------------------------------------------------------------
+
+
+def execute(
+    tasks: Sequence[Any],
+    work: Work,
+    options: BatchOptions,
+    progress: Progress | None = None,
+    *,
+    units: Callable[[Any], int] | None = None,
+    isolate: bool = False,
+    label: Callable[[Any], str] = repr,
+) -> Iterator[TaskResult]:
+    """Run ``work(task, tick)`` for every task; yield each :class:`TaskResult` as it finishes.
+
+    One worker runs the tasks in this process unless ``isolate`` (then always in worker
+    processes, so a task that kills its process does not end the batch). ``units(value)``:
+    the progress a finished task counts on Ray, where ticks from inside tasks do not reach
+    ``progress``. ``label(task)`` names a task in log messages.
+    """
+    if not tasks:
+        return
+    progress = progress or (lambda n=1: None)
+    if options.backend == "ray":
+        yield from _execute_ray(tasks, work, options, progress, units, label)
+    elif not isolate and (options.workers == 1 or len(tasks) == 1):
+        yield from _execute_here(tasks, work, progress, label)
+    else:
+        yield from _execute_pool(tasks, work, options.workers, progress, label)
+
+
+def _execute_here(tasks: Sequence[Any], work: Work, progress: Progress,
+                  label: Callable[[Any], str]) -> Iterator[TaskResult]:
+    for task in tasks:
+        try:
+            value = work(task, lambda *_: progress())
+        except Exception as error:  # a failing task must not end the batch
+            log.warning("%s failed", label(task), exc_info=True)
+            yield TaskResult(task, error=describe_error(error))
+        else:
+            yield TaskResult(task, value)
+
+
+def _execute_pool(tasks: Sequence[Any], work: Work, workers: int, progress: Progress,
+                  label: Callable[[Any], str]) -> Iterator[TaskResult]:
+    """A pool of spawned processes; after a worker died, its tasks alone, then a fresh pool for the rest."""
+    context = multiprocessing.get_context("spawn")  # fresh interpreters: no state shared with this one
+    ticks = context.Queue()
+    waiting = collections.deque(tasks)
+    while waiting:
+        crashed: list[Any] = []
+        yield from _run_pool(context, ticks, waiting, work, min(workers, len(waiting)), progress, crashed, label)
+        for task in crashed:
+            yield _run_alone(context, ticks, work, task, progress, label)
+
+
+def _run_pool(context, ticks, waiting: collections.deque, work: Work, workers: int, progress: Progress,
+              crashed: list, label: Callable[[Any], str]) -> Iterator[TaskResult]:
+    """Tasks from ``waiting``, at most ``workers`` at once, until done or the pool broke (then ``crashed``)."""
+    broken = False
+    try:
+        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                                                    initializer=_init_worker, initargs=(ticks,)) as pool:
+            running: dict[concurrent.futures.Future, Any] = {}
+            try:
+                while running or (waiting and not broken):
+                    while waiting and not broken and len(running) < workers:
+                        task = waiting.popleft()
+                        running[pool.submit(_work_in_worker, work, task)] = task
+                    finished, _ = concurrent.futures.wait(running, timeout=_POLL_S,
+                                                          return_when=concurrent.futures.FIRST_COMPLETED)
+                    _drain(ticks, progress)
+                    for future in finished:
+                        task = running.pop(future)
+                        try:
+                            value = future.result()
+                        except BrokenProcessPool as error:
+                            broken = True
+                            crashed.append(task)
+                            log.warning("%s: a worker process died (%s); it runs again alone in a fresh process",
+                                        label(task), describe_error(error))
+                        except Exception as error:
+                            log.warning("%s failed: %s", label(task), describe_error(error))
+                            yield TaskResult(task, error=describe_error(error))
+                        else:
+                            yield TaskResult(task, value)
+            except BaseException:
+                for future in running:
+                    future.cancel()
+                raise
+    finally:
+        _drain(ticks, progress)  # the workers have exited: their last ticks are in the queue
+
+
+def _run_alone(context, ticks, work: Work, task: Any, progress: Progress, label: Callable[[Any], str]) -> TaskResult:
+    """One task in a fresh process of its own: its result, its error, or how the process died."""
+    receive, send = context.Pipe(duplex=False)
+    process = context.Process(target=_work_alone, args=(work, task, ticks, send), daemon=True)
+    process.start()
+    send.close()  # the child holds the only sending end: its death reads as end of file
+    message = None
+    try:
+        while message is None:
+            _drain(ticks, progress)
+            if receive.poll(_POLL_S):
+                try:
+                    message = receive.recv()
+                except EOFError:
+                    break
+        process.join()
+    except BaseException:
+        process.terminate()
+        process.join()
+        raise
+    finally:
+        receive.close()
+        _drain(ticks, progress)
+    attempts = 1 + RETRIES
+    if message is None:
+        error = f"the worker process died ({_exit_text(process.exitcode)}), again when run alone"
+        log.warning("%s failed: %s", label(task), error)
+        return TaskResult(task, error=error, attempts=attempts)
+    kind, payload = message
+    if kind == "error":
+        log.warning("%s failed: %s", label(task), payload)
+        return TaskResult(task, error=payload, attempts=attempts)
+    return TaskResult(task, payload, attempts=attempts)
+
+
+def _exit_text(code: int | None) -> str:
+    if code is not None and code < 0:
+        return f"killed by signal {-code}"
+    return f"exit code {code}"
+
+
+_worker_queue = None
+
+
+def _init_worker(ticks) -> None:
+    global _worker_queue
+    _worker_queue = ticks
+
+
+def _tick(*_: object) -> None:
+    """A worker's progress: one unit to the parent (whatever the task passes)."""
+    if _worker_queue is not None:
+        _worker_queue.put(1)
+
+
+def _work_in_worker(work: Work, task: Any) -> Any:
+    return work(task, _tick)
+
+
+def _work_alone(work: Work, task: Any, ticks, send) -> None:
+    _init_worker(ticks)
+    try:
+        value = work(task, _tick)
+    except Exception as error:
+        send.send(("error", describe_error(error)))
+    else:
+        send.send(("ok", value))
+    finally:
+        send.close()
+
+
+def _drain(ticks, progress: Progress) -> None:
+    while True:
+        try:
+            ticks.get_nowait()
+        except queue.Empty:
+            return
+        progress()
+
+
+def _execute_ray(tasks: Sequence[Any], work: Work, options: BatchOptions, progress: Progress,
+                 units: Callable[[Any], int] | None, label: Callable[[Any], str]) -> Iterator[TaskResult]:
+    """The same tasks as Ray tasks on the cluster at ``ray_address``, or on a local Ray instance."""
+    require_ray()
+    import ray
+
+    started_here = not ray.is_initialized()
+    if started_here:
+        if options.ray_address is None:
+            ray.init(num_cpus=options.workers, include_dashboard=False, log_to_driver=False)
+        else:
+            ray.init(address=options.ray_address, log_to_driver=False)
+    try:
+        remote = ray.remote(num_cpus=1, max_retries=RETRIES)(work)
+        by_ref = {remote.remote(task, None): task for task in tasks}
+        pending = list(by_ref)
+        while pending:
+            finished, pending = ray.wait(pending, num_returns=1)
+            task = by_ref[finished[0]]
+            try:
+                value = ray.get(finished[0])
+            except ray.exceptions.RayTaskError as error:  # the task raised
+                cause = getattr(error, "cause", None) or error
+                log.warning("%s failed: %s", label(task), describe_error(cause))
+                yield TaskResult(task, error=describe_error(cause))
+            except ray.exceptions.RayError as error:  # its worker died, twice
+                message = f"the worker process died ({type(error).__name__}), again when retried"
+                log.warning("%s failed: %s", label(task), message)
+                yield TaskResult(task, error=message, attempts=1 + RETRIES)
+            else:
+                if units is not None:
+                    progress(units(value))
+                yield TaskResult(task, value)
+    finally:
+        if started_here:
+            ray.shutdown()
+
+
+# ---- where finished tasks are kept ----------------------------------------------------------
+
+
+class ResultStore:
+    """One JSON file per finished task, ``DIR/<subdir>/<prefix>_NNNN.json``, and the marker ``DIR/<marker>``.
+
+    ``settings``: what the marker records besides the ``fingerprint`` (plain JSON values),
+    named in the message when a resumed batch finds other settings; ``key``: the field of a
+    stored task that holds its index; ``what``: how the message names the stored tasks.
+    """
+
+    def __init__(self, out_dir: Path, *, fingerprint: str, settings: Mapping[str, object], resume: bool,
+                 marker: str, subdir: str = "runs", prefix: str = "run", key: str = "run", what: str = "runs"):
+        out_dir = Path(out_dir)
+        self.dir = out_dir / subdir
+        self.fingerprint = fingerprint
+        self.prefix = prefix
+        self.key = key
+        marker_path = out_dir / marker
+        if resume and marker_path.exists():
+            stored = json.loads(marker_path.read_text(encoding="utf-8"))
+            if stored.get("fingerprint") != fingerprint:
+                raise BatchError(_mismatch(out_dir, what, stored, dict(settings), fingerprint))
+        self.dir.mkdir(parents=True, exist_ok=True)
+        if not resume:
+            for old in self.dir.glob(f"{prefix}_*.json"):
+                old.unlink()
+        write_text(marker_path, json.dumps({**settings, "fingerprint": fingerprint}) + "\n")
+
+    def path(self, index: int) -> Path:
+        return self.dir / f"{self.prefix}_{index:04d}.json"
+
+    def load(self) -> dict[int, dict]:
+        """The stored tasks of this fingerprint, by index (files of another are ignored)."""
+        done = {}
+        for path in sorted(self.dir.glob(f"{self.prefix}_*.json")):
+            data = json.loads(path.read_text(encoding="utf-8"))
+            if data.get("fingerprint") != self.fingerprint:
+                log.warning("ignoring %s: written with other settings", path)
+                continue
+            done[int(data[self.key])] = data
+        return done
+
+    def save(self, index: int, data: Mapping[str, object]) -> Path:
+        """``data`` (plain JSON; NaN kept as NaN, which Python's JSON reads) as task ``index``, atomically."""
+        return write_text_atomic(self.path(index), json.dumps({"fingerprint": self.fingerprint, **data}) + "\n")
+
+
+def _mismatch(out_dir: Path, what: str, stored: dict, settings: dict, fingerprint: str) -> str:
+    """The refusal to resume: the settings that differ, as stored and as asked, and both fingerprints."""
+    keys = [k for k in dict.fromkeys([*settings, *stored]) if k != "fingerprint" and stored.get(k) != settings.get(k)]
+
+    def shown(values: dict) -> str:
+        return ", ".join(f"{k}={json.dumps(values.get(k))}" for k in keys) or "other settings"
+
+    return (f"{out_dir} holds {what} of {shown(stored)} (fingerprint {stored.get('fingerprint')}); this command asks "
+            f"for {shown(settings)} (fingerprint {fingerprint}): run without --resume to start over, or use another --out")

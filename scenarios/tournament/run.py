@@ -1,0 +1,179 @@
+"""A tournament on the batch engine: every match played once, kept as it finishes, resumable, and its report.
+
+The matches run on local worker processes (always in processes of their own, so a policy
+that kills its process ends only its match) or as Ray tasks, through
+:func:`scenarios.common.batch.execute`. Each finished match writes its outputs to
+``DIR/matches/NNN/`` and then its record to ``DIR/runs/match_NNNN.json`` (atomically), so
+a tournament interrupted with Ctrl-C or killed keeps what it finished, and ``resume``
+plays only the matches without a record (and those that failed). The report is built from
+the records in match order: the same whatever the worker count or the backend.
+"""
+
+from __future__ import annotations
+
+import logging
+import shutil
+import time
+from collections.abc import Mapping
+from pathlib import Path
+
+from tqdm import tqdm
+
+from agents.policies import policy_factory
+from match.runner import package_versions
+from scenarios.common.batch import BatchOptions, ResultStore, TaskResult, execute, require_ray
+from scenarios.common.io import write_text
+from scenarios.tournament.figures import plot_ratings, plot_standings
+from scenarios.tournament.play import play_match
+from scenarios.tournament.report import (
+    TournamentReport,
+    build_report,
+    running_standings,
+    write_results_csv,
+    write_summary_json,
+    write_table,
+)
+from scenarios.tournament.settings import MatchTask, TournamentError, TournamentSettings
+
+log = logging.getLogger(__name__)
+
+MARKER_FILE = "tournament.json"
+RECORDS_DIR = "runs"
+MATCHES_DIR = "matches"
+
+
+def check_policies(settings: TournamentSettings) -> None:
+    """Every policy name resolves (built in, or an importable ``package.module:ClassName``)."""
+    for name in dict.fromkeys(settings.policies):
+        try:
+            policy_factory(name)
+        except ValueError as error:
+            raise TournamentError(f"POLICY: {error}") from None
+
+
+def match_dir(out_dir: Path, index: int) -> Path:
+    return Path(out_dir) / MATCHES_DIR / f"{index:03d}"
+
+
+def run_tournament(settings: TournamentSettings, out_dir: Path,
+                   options: BatchOptions = BatchOptions()) -> TournamentReport:
+    """Play every match of ``settings`` not already recorded in ``out_dir``; write and return the report.
+
+    Everything is checked before anything is written: the policies, the backend, and on
+    ``options.resume`` that ``out_dir`` holds matches of the same settings.
+    """
+    started = time.perf_counter()
+    out_dir = Path(out_dir)
+    check_policies(settings)
+    if options.backend == "ray":
+        require_ray()
+    store = ResultStore(out_dir, fingerprint=settings.fingerprint(), settings=settings.to_json(),
+                        resume=options.resume, marker=MARKER_FILE, subdir=RECORDS_DIR, prefix="match", key="match",
+                        what="matches")
+    tasks = settings.tasks()
+    if not options.resume:
+        _clear_matches(out_dir)
+    records = {i: r for i, r in store.load().items() if r["status"] == "ok"}  # failed ones are played again
+    pending = [t for t in tasks if t.index not in records]
+    if records:
+        log.info("%d of %d matches already in %s", len(records), len(tasks), out_dir)
+    entrants = settings.entrants()
+    bar = tqdm(total=len(tasks), initial=len(records), unit="match", desc="tournament", disable=not options.progress,
+               dynamic_ncols=True)
+    bar.set_postfix_str(running_standings(_in_order(records), entrants))
+    try:
+        for result in execute(pending, play_match, options, isolate=True, label=lambda task: task.label):
+            record = _keep(out_dir, store, result)
+            records[record["match"]] = record
+            bar.update(1)
+            bar.set_postfix_str(running_standings(_in_order(records), entrants))
+    finally:
+        bar.close()
+    ordered = [records[t.index] for t in tasks]
+    report = build_report(settings, ordered, time.perf_counter() - started, package_versions())
+    write_report(out_dir, report)
+    return report
+
+
+def _in_order(records: Mapping[int, dict]) -> list[dict]:
+    return [records[i] for i in sorted(records)]
+
+
+def _clear_matches(out_dir: Path) -> None:
+    """A fresh tournament: the match directories of an earlier one go (only ``matches/NNN``)."""
+    matches = out_dir / MATCHES_DIR
+    if matches.is_dir():
+        for old in matches.iterdir():
+            if old.is_dir() and old.name.isdigit():
+                shutil.rmtree(old)
+
+
+def _keep(out_dir: Path, store: ResultStore, result: TaskResult) -> dict:
+    """The match's files into ``matches/NNN`` (or its error), then its record into the store."""
+    task: MatchTask = result.task
+    directory = match_dir(out_dir, task.index)
+    if directory.exists():
+        shutil.rmtree(directory)
+    directory.mkdir(parents=True)
+    if result.failed:
+        write_text(directory / "error.txt", result.error + "\n")
+    else:
+        for name, data in result.value.files.items():
+            (directory / name).write_bytes(data)
+    record = match_record(task, result)
+    store.save(task.index, record)
+    return record
+
+
+def match_record(task: MatchTask, result: TaskResult) -> dict:
+    """What the report needs of one match (plain JSON)."""
+    record = {
+        "match": task.index,
+        "pair": task.pair,
+        "game": task.game,
+        "seed": task.seed,
+        "home_policy": task.home,
+        "away_policy": task.away,
+        "home_entrant": task.entrant("home"),
+        "away_entrant": task.entrant("away"),
+        "status": "failed" if result.failed else "ok",
+        "error": result.error,
+        "attempts": result.attempts,
+        "home_goals": None,
+        "away_goals": None,
+        "home_shootout": None,
+        "away_shootout": None,
+        "winner_side": None,
+        "sim_seconds": None,
+        "wall_seconds": None,
+        "statistics": None,
+    }
+    if not result.failed:
+        summary = result.value.summary
+        shootout = summary["shootout"] or {}
+        record.update(
+            home_goals=summary["score"]["home"],
+            away_goals=summary["score"]["away"],
+            home_shootout=shootout.get("home"),
+            away_shootout=shootout.get("away"),
+            winner_side=summary["winner"],
+            sim_seconds=summary["sim_seconds"],
+            wall_seconds=round(result.value.wall_seconds, 3),
+            statistics=summary["statistics"],
+        )
+    return record
+
+
+def write_report(out_dir: Path, report: TournamentReport) -> list[Path]:
+    """results.csv, summary.json, table.md, standings.png and (three or more policies) ratings.png."""
+    out = Path(out_dir)
+    paths = [
+        write_results_csv(out / "results.csv", report.records),
+        write_summary_json(out / "summary.json", report, report.settings.fingerprint()),
+        write_table(out / "table.md", report),
+        plot_standings(out / "standings.png", report),
+    ]
+    if report.ratings is not None:
+        paths.append(plot_ratings(out / "ratings.png", report.ratings))
+    return paths
+

@@ -1,0 +1,145 @@
+"""Match statistics (match.statistics) against a hand-built match: events, log and summary blocks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from match.protocol import Motion, make_action, parse_action
+from match.statistics import TEAM_KEYS, TeamRadio, attack_direction, match_statistics, side_of
+
+INITIAL, READY, SET, PLAYING = 0, 1, 2, 3
+
+# time, state, half, ball x, ball y
+ROWS = [
+    (0.0, INITIAL, 1, 2.0, 0.0),
+    (1.0, PLAYING, 1, 2.0, 0.0),  # nobody touched it yet
+    (2.0, PLAYING, 1, 2.2, 0.0),  # home_0 touches it
+    (3.0, PLAYING, 1, 2.45, 0.0),  # enters the goal area home attacks (+x in half 1): a shot
+    (4.0, PLAYING, 1, 2.65, 0.0),  # still the same touch: the same shot
+    (5.0, PLAYING, 1, 2.6, 0.1),  # away_0 touches it
+    (6.0, PLAYING, 1, 2.4, 0.1),  # away attacks -x: no shot of theirs
+    (7.0, READY, 1, 0.0, 0.0),  # after the goal
+    (8.5, INITIAL, 2, 0.0, 0.0),  # second half: home attacks -x
+    (9.0, PLAYING, 2, -2.2, 0.5),  # placed there (a jump), away touched it last
+    (10.0, PLAYING, 2, -2.45, 0.5),  # into home's target area, but away touched it last: no shot
+    (11.0, PLAYING, 2, -2.7, 0.5),  # home_0 touches it toward its target: a shot
+    (12.0, SET, 2, 1.2, 0.0),  # the penalty shoot-out
+    (13.0, PLAYING, 2, 1.4, 0.0),
+    (14.0, PLAYING, 2, 1.6, 0.0),
+]
+
+EVENTS = [
+    {"time_s": 0.0, "kind": "state", "state": "INITIAL", "half": 1, "secondary": "NORMAL"},
+    {"time_s": 1.0, "kind": "state", "state": "PLAYING", "half": 1, "secondary": "NORMAL"},
+    {"time_s": 1.0, "kind": "kickoff", "team": "home", "half": 1},
+    {"time_s": 2.0, "kind": "touch", "robot": "home_0", "x": 2.2, "y": 0.0},
+    {"time_s": 3.0, "kind": "fall", "robot": "away_0", "x": 1.0, "y": 0.0},
+    {"time_s": 4.5, "kind": "ball_out", "line": "side_line", "x": 1.0, "y": 2.1, "last_toucher": "home_0"},
+    {"time_s": 5.0, "kind": "touch", "robot": "away_0", "x": 2.6, "y": 0.1},
+    {"time_s": 6.5, "kind": "goal", "team": "home", "goal": "yellow", "last_toucher": "away_0",
+     "score": {"home": 1, "away": 0}},
+    {"time_s": 6.5, "kind": "state", "state": "READY", "half": 1, "secondary": "NORMAL"},
+    {"time_s": 7.5, "kind": "half_time", "score": {"home": 1, "away": 0}},
+    {"time_s": 8.0, "kind": "robot_replaced", "robot": "home_0", "reason": "off_carpet", "x": -1.2, "y": 2.0},
+    {"time_s": 8.5, "kind": "state", "state": "PLAYING", "half": 2, "secondary": "NORMAL"},
+    {"time_s": 11.0, "kind": "touch", "robot": "home_0", "x": -2.7, "y": 0.5},
+    {"time_s": 12.0, "kind": "state", "state": "SET", "half": 2, "secondary": "PENALTY_SHOOTOUT"},
+    {"time_s": 13.0, "kind": "touch", "robot": "away_0", "x": 1.4, "y": 0.0},  # shoot-out: not counted
+    {"time_s": 13.5, "kind": "fall", "robot": "away_0", "x": 1.0, "y": 0.0},  # falls count all match long
+    {"time_s": 14.0, "kind": "shootout_kick", "team": "away", "kicker": "away_0", "keeper": "home_0",
+     "scored": False, "reason": "saved", "shootout": {"home": 0, "away": 0}},
+    {"time_s": 14.0, "kind": "end", "winner": "home", "score": {"home": 1, "away": 0}, "shootout": None},
+]
+
+SUMMARY = {
+    "faults": {"total": 3, "by_agent": {"away_0": 3}, "details": []},
+    "radio": {"sent": 10, "by_side": {"home": {"sent": 10, "dropped": 2, "received": 9},
+                                      "away": {"sent": 0, "dropped": 0, "received": 0}}},
+}
+
+
+def hand_built_log() -> dict[str, np.ndarray]:
+    time_s, state, half, bx, by = (np.array(column) for column in zip(*ROWS))
+    n = len(ROWS)
+    robots = np.zeros((n, 2, 3))
+    robots[:, :, 2] = 3.0  # both face almost -x
+    estimates = np.full((n, 2, 3), np.nan)  # away_0 reports no estimate
+    estimates[:, 0] = robots[:, 0] + (3.0, 4.0, 0.0)  # 5 m off outside playing time: never counted
+    playing = (state == PLAYING) & (time_s <= 12.0)
+    estimates[playing, 0] = robots[playing, 0] + (0.3, 0.4, 0.0)  # 0.5 m off while playing ...
+    estimates[11, 0, :2] = robots[11, 0, :2] + (0.6, 0.8)  # ... 1 m off once
+    estimates[:, 0, 2] = -3.0  # 2 pi - 6 rad = 16.23 degrees off
+    return {
+        "agents": np.array(["home_0", "away_0"]),
+        "time_s": time_s.astype(float),
+        "state": state.astype(np.int8),
+        "half": half.astype(np.int8),
+        "ball": np.stack([bx, by, np.full(n, 0.0325)], axis=1),
+        "robots": robots,
+        "fallen": np.zeros((n, 2), dtype=bool),
+        "estimates": estimates,
+    }
+
+
+@pytest.fixture(scope="module")
+def statistics() -> dict:
+    return match_statistics(EVENTS, hand_built_log(), SUMMARY)
+
+
+def test_counts_from_the_events(statistics: dict) -> None:
+    home, away = statistics["home"], statistics["away"]
+    assert set(home) == set(TEAM_KEYS) == set(away)
+    assert (home["goals"], away["goals"]) == (1, 0)
+    assert (home["own_goals"], away["own_goals"]) == (0, 1)  # away_0 touched the ball into its own goal last
+    assert (home["touches"], away["touches"]) == (2, 1)  # the shoot-out's touch does not count
+    assert (home["balls_out"], away["balls_out"]) == (1, 0)
+    assert (home["falls"], away["falls"]) == (0, 2)
+    assert (home["robots_replaced"], away["robots_replaced"]) == (1, 0)
+    assert (home["faults"], away["faults"]) == (0, 3)
+    assert (home["radio_sent"], home["radio_dropped"], home["radio_received"]) == (10, 2, 9)
+    assert away["radio_sent"] == 0
+
+
+def test_shots_possession_and_playing_time_from_the_log(statistics: dict) -> None:
+    home, away = statistics["home"], statistics["away"]
+    assert (home["shots_on_target"], away["shots_on_target"]) == (2, 0)
+    # playing rows 1-6 (1 s each), 9 (0.5 s), 10 and 11; row 1 belongs to nobody
+    assert statistics["playing_seconds"] == pytest.approx(8.5)
+    assert home["possession"] == pytest.approx(4.0 / 7.5, abs=1e-4)
+    assert away["possession"] == pytest.approx(3.5 / 7.5, abs=1e-4)
+
+
+def test_pose_errors_while_playing_only(statistics: dict) -> None:
+    home, away = statistics["home"], statistics["away"]
+    assert home["pose_estimates"] == 9
+    assert home["position_error_mean_m"] == pytest.approx((8 * 0.5 + 1.0) / 9, abs=1e-4)
+    assert home["position_error_p95_m"] == pytest.approx(0.5 + 0.6 * 0.5, abs=1e-4)  # 7.6th of 9 sorted values
+    assert home["orientation_error_mean_deg"] == pytest.approx(math.degrees(2 * math.pi - 6.0), abs=1e-3)
+    assert away["pose_estimates"] == 0 and away["position_error_mean_m"] is None
+    assert away["orientation_error_p95_deg"] is None
+
+
+def test_a_summary_without_per_team_radio_gives_none() -> None:
+    result = match_statistics(EVENTS, hand_built_log(), {"faults": {}, "radio": {"sent": 3}})
+    assert result["home"]["radio_sent"] is None and result["home"]["faults"] == 0
+
+
+def test_sides_and_directions() -> None:
+    assert side_of("home_3") == "home" and side_of("away_0") == "away"
+    assert side_of(None) is None and side_of("referee") is None
+    assert attack_direction("home", 1) == 1 and attack_direction("home", 2) == -1
+    assert attack_direction("away", 1) == -1 and attack_direction("away", 2) == 1
+
+
+def test_team_radio_counts_packets_drops_and_inboxes() -> None:
+    radio = TeamRadio()
+    packet = parse_action("home_0", make_action(Motion.STAND, radio=b"hi"))
+    silent = parse_action("away_0", make_action(Motion.STAND))
+    radio.actions({"home_0": packet, "home_1": packet, "away_0": silent, "away_1": None})
+    radio.observations({"home_0": {"radio": {"dropped": 1, "count": 0}}, "home_1": {"radio": {"dropped": 0, "count": 1}},
+                        "away_0": {"radio": {"dropped": 0, "count": 0}}})
+    assert radio.to_json() == {"home": {"sent": 1, "dropped": 1, "received": 1},
+                               "away": {"sent": 0, "dropped": 0, "received": 0}}
