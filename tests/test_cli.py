@@ -95,7 +95,8 @@ def test_index_lists_every_image(demo_dir: Path) -> None:
 def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert cli.main(["bench", "--out", str(tmp_path), "--quick"]) == 0
     results = json.loads((tmp_path / "bench.json").read_text(encoding="utf-8"))
-    for key in ("render_ms_median", "render_ms_p90", "physics_step_ms_median", "physics_step_ms_p90"):
+    for key in ("render_ms_median", "render_ms_p90", "physics_step_ms_median", "physics_step_ms_p90",
+                "agent_act_ms_median", "agent_act_frame_ms_median"):
         value = results[key]
         assert isinstance(value, float) and math.isfinite(value) and value > 0.0, (key, value)
     assert results["render_ms_p90"] >= results["render_ms_median"]

@@ -215,11 +215,54 @@ def bench_match(repeats: int) -> dict[str, float]:
     return {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
 
 
+AGENT_WARMUP_STEPS = 10
+AGENT_ROBOT = "home_1"
+
+
+def bench_agent(repeats: int) -> dict[str, float]:
+    """The team agent's ``act`` playing ``home_1`` in an 8-robot match (the others scripted):
+    its cost on steps without a new camera frame and on steps with one (vision and
+    localization); ``repeats`` of each after a warm-up."""
+    from agents.team.agent import TeamAgent
+    from match.game import Match
+    from scenarios.matches.play import Lineup, match_config
+
+    config = match_config()
+    config = replace(config, referee=replace(config.referee, **QUICK_START))
+    match = Match(config)
+    try:
+        policies = Lineup().policies(match.agents)
+        for agent_id, policy in policies.items():
+            policy.reset(agent_id, 0)
+        agent = TeamAgent()
+        agent.reset(AGENT_ROBOT, 0)
+        observations = match.reset(0)
+        with_frame: list[float] = []
+        without: list[float] = []
+        for step in range(40 * repeats + AGENT_WARMUP_STEPS):
+            if min(len(with_frame), len(without)) >= repeats:
+                break
+            actions = {a: policies[a].act(observations[a]) for a in match.agent_names if a != AGENT_ROBOT}
+            start = time.perf_counter()
+            actions[AGENT_ROBOT] = agent.act(observations[AGENT_ROBOT])
+            elapsed_ms = (time.perf_counter() - start) * 1e3
+            if step >= AGENT_WARMUP_STEPS:
+                framed = int(observations[AGENT_ROBOT]["camera"]) != 0
+                (with_frame if framed else without).append(elapsed_ms)
+            observations = match.step(actions).observations
+    finally:
+        match.close()
+    metrics = summarize("agent_act", np.array(without[:repeats]))
+    metrics.update(summarize("agent_act_frame", np.array(with_frame[:repeats])))
+    return metrics
+
+
 BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
     Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
     Benchmark("env", "env.step(): 8 agents, all cameras on, random actions; and render+physics alone", bench_env),
     Benchmark("match", "an 8-robot match with the default policies, real-time factor", bench_match),
+    Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
 )
 
 
