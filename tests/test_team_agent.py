@@ -98,3 +98,31 @@ def test_its_estimates_are_in_the_match_log(tmp_path) -> None:
     log = np.load(tmp_path / "match_log.npz")
     assert log["estimates"].shape == (51, 1, 3)
     assert np.isfinite(log["estimates"][1:]).all()  # from the first action on
+
+
+def _actions_played(privileged: bool, steps: int = 150) -> list[str]:
+    from match import parallel_env
+    from match.referee import RefereeConfig
+
+    quick = RefereeConfig(half_seconds=30.0, initial_seconds=0.2, ready_seconds=0.4, set_seconds=0.2, shootout=False)
+    env = parallel_env(home_players=2, away_players=1, privileged=privileged, config=MatchConfig(referee=quick))
+    try:
+        observations, infos = env.reset(seed=7)
+        assert bool(infos["home_0"]) is privileged  # the ground truth is there only when asked for
+        agents = {a: TeamAgent() for a in env.possible_agents}
+        for agent_id, agent in agents.items():
+            agent.reset(agent_id, 11)
+        played = []
+        for _ in range(steps):
+            actions = {a: agents[a].act(observations[a]) for a in env.agents}
+            played.append(repr(sorted((a, repr(sorted(action.items()))) for a, action in actions.items())))
+            observations, _, _, _, _ = env.step(actions)
+        return played
+    finally:
+        env.close()
+
+
+@pytest.mark.render
+def test_the_same_match_with_and_without_privileged_infos_gives_the_same_actions() -> None:
+    """Honesty: the agents decide from their observations only, so the ground truth in infos changes nothing."""
+    assert _actions_played(privileged=True) == _actions_played(privileged=False)
