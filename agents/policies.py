@@ -35,7 +35,7 @@ BUILTIN_POLICIES: dict[str, tuple[PolicyFactory, str]] = {
     "team-odometry": (functools.partial(TeamAgent, method="odometry"), "the team agent on odometry alone"),
     "team-blind": (functools.partial(TeamAgent, avoid_obstacles=False), "the team agent that does not avoid obstacles"),
 }
-DEFAULT_POLICY = "scripted"
+DEFAULT_POLICY = "team"  # what a match plays unless told otherwise
 _IMPORT_PATH = re.compile(r"^[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*:[A-Za-z_][\w]*$")
 
 

@@ -33,3 +33,8 @@ class RadioPacketError(InvalidActionError):
 
 class MatchConfigError(MatchError, ValueError):
     """A match, referee or radio setting outside its allowed range."""
+
+
+class InvalidReportError(MatchError, ValueError):
+    """What a policy reports for the log (a pose estimate, an :class:`~match.protocol.policy.AgentReport`)
+    that does not fit its type: the log records nothing for that robot that step."""

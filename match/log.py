@@ -2,7 +2,10 @@
 
 Kept in memory as compact float32 rows and written as one compressed ``.npz``: a full
 match of 8 robots (about 32 000 steps) takes a few megabytes. Agents' own pose estimates
-are logged beside the truth when their policy reports one (NaN otherwise).
+are logged beside the truth when their policy reports one (NaN otherwise), and so is what
+an :class:`~match.protocol.policy.AgentReporter` reports (its ball, the team ball, its role
+and the landmarks it saw; NaN where it reports nothing), in the per-robot extras that
+``scenarios.replay.record`` reads.
 """
 
 from __future__ import annotations
@@ -13,7 +16,9 @@ from pathlib import Path
 import numpy as np
 
 from match.game import Match
+from match.protocol.policy import AgentReport
 
+MAX_ROLES = 64  # distinct role names kept; a report with a role beyond them logs no role
 
 class MatchLog:
     def __init__(self, agents: Sequence[str]):
@@ -25,11 +30,17 @@ class MatchLog:
         self._robots: list[np.ndarray] = []
         self._fallen: list[np.ndarray] = []
         self._estimates: list[np.ndarray] = []
+        self._reports: list[np.ndarray] = []  # (N, 6): ball x, y, team ball x, y, role index, landmark bits
+        self.role_names: list[str] = []  # the roles reported, in the order they first appeared
+        self._role_index: dict[str, int] = {}
 
     def __len__(self) -> int:
         return len(self._time)
 
-    def record(self, match: Match, estimates: Mapping[str, tuple[float, float, float] | None] | None = None) -> None:
+    def record(self, match: Match, estimates: Mapping[str, tuple[float, float, float] | None] | None = None,
+               reports: Mapping[str, AgentReport | None] | None = None) -> None:
+        """One step: the truth now, and what the policies reported (``estimates``: checked
+        (x, y, theta) tuples; ``reports``: checked reports; missing or None: nothing)."""
         truth = match.truth()
         robots = np.empty((len(self.agents), 3), dtype=np.float32)
         fallen = np.empty(len(self.agents), dtype=bool)
@@ -47,11 +58,34 @@ class MatchLog:
         self._robots.append(robots)
         self._fallen.append(fallen)
         self._estimates.append(guesses)
+        self._reports.append(self._report_row(reports or {}))
+
+    def _report_row(self, reports: Mapping[str, AgentReport | None]) -> np.ndarray:
+        row = np.full((len(self.agents), 6), np.nan, dtype=np.float32)
+        for i, agent in enumerate(self.agents):
+            report = reports.get(agent)
+            if report is None:
+                continue
+            if report.ball_xy is not None:
+                row[i, 0:2] = report.ball_xy
+            if report.team_ball_xy is not None:
+                row[i, 2:4] = report.team_ball_xy
+            if report.role is not None:
+                if report.role not in self._role_index and len(self.role_names) < MAX_ROLES:
+                    self._role_index[report.role] = len(self.role_names)
+                    self.role_names.append(report.role)
+                row[i, 4] = self._role_index.get(report.role, np.nan)
+            row[i, 5] = sum(1 << index for index in report.landmarks_seen)  # < 2**17: exact in float32
+        return row
 
     def save(self, path: Path) -> Path:
         """Write ``path`` (``.npz``): arrays time_s (T), state (T), half (T), ball (T, 3),
-        robots (T, N, 3: x, y, theta), fallen (T, N), estimates (T, N, 3) and agents (N)."""
+        robots (T, N, 3: x, y, theta), fallen (T, N), estimates (T, N, 3) and agents (N); the
+        reports' ball_estimates (T, N, 2: x, y), team_ball (T, N, 2), roles (T, N: index into
+        role_names, float), role_names (R) and landmarks_seen (T, N: bit i for
+        ``FIELD.landmarks[i]``, float); NaN where a robot reported nothing."""
         n = len(self.agents)
+        reports = np.array(self._reports, dtype=np.float32).reshape(-1, n, 6)
         np.savez_compressed(
             path,
             agents=np.array(self.agents),
@@ -62,5 +96,10 @@ class MatchLog:
             robots=np.array(self._robots, dtype=np.float32).reshape(-1, n, 3),
             fallen=np.array(self._fallen, dtype=bool).reshape(-1, n),
             estimates=np.array(self._estimates, dtype=np.float32).reshape(-1, n, 3),
+            ball_estimates=reports[:, :, 0:2],
+            team_ball=reports[:, :, 2:4],
+            roles=reports[:, :, 4],
+            role_names=np.array(self.role_names, dtype=str),
+            landmarks_seen=reports[:, :, 5],
         )
         return path

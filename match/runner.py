@@ -4,12 +4,14 @@ Every run goes through :func:`run_match`: full matches, tournaments, and the sce
 (refereed, or in the match's free play). Policies follow :class:`match.protocol.policy.Policy`:
 :meth:`reset` with the robot's id and a seed before the first step, then ``act(observation)``
 every control step; a :class:`~match.protocol.policy.PoseReporter` has its estimate logged
-beside the truth. A policy that raises, or returns an invalid action, does not end the
-match: its robot stands still for that step and the fault is recorded.
+beside the truth, an :class:`~match.protocol.policy.AgentReporter` its report
+(:mod:`match.reports`). A policy that raises, or returns an invalid action, does not end the
+match: its robot stands still for that step and the fault is recorded; a report that raises
+or does not fit is logged as nothing (NaN) with one warning per robot.
 
-Whoever needs to watch the run (a localization-sample collector, a logger) passes a
+Whoever needs to watch the run (a localization-sample collector, a video writer) passes a
 :class:`MatchObserver`: it sees the match after the policies decided each step, and can end
-the run.
+the run; an :class:`ObservationWatcher` also sees the observations the policies acted on.
 
 Outputs in ``out_dir``: ``summary.json`` (with each team's match statistics, see
 :mod:`match.statistics`), ``events.jsonl`` (one event per line) and ``match_log.npz`` (see
@@ -27,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from tqdm import tqdm
@@ -38,7 +40,8 @@ from match.log import MatchLog
 from match.protocol.actions import Action, parse_action
 from match.protocol.game_control import SecondaryState
 from match.protocol.ids import Side
-from match.protocol.policy import Policy, PoseReporter, PoseTuple
+from match.protocol.policy import Policy
+from match.reports import ReportReader
 from match.statistics import TeamRadio, match_statistics
 
 log = logging.getLogger(__name__)
@@ -56,6 +59,18 @@ class MatchObserver(Protocol):
 
     def done(self, match: Match) -> bool:
         """Checked before every step: True ends the run there."""
+
+
+@runtime_checkable
+class ObservationWatcher(MatchObserver, Protocol):
+    """An observer that also sees what the robots observed (a camera-video writer).
+
+    Evaluation only: it must not hand anything back to a policy.
+    """
+
+    def observed(self, match: Match, observations: Mapping[str, Mapping[str, Any]]) -> None:
+        """Called every step right after :meth:`decided`, with the observations (agent id -> the
+        observation dict) the policies have just acted on; the world has not moved since they were taken."""
 
 
 @dataclass
@@ -154,6 +169,8 @@ def run_match(
     faults = FaultRecord()
     radio = TeamRadio()
     match_log = MatchLog(match.agent_names)
+    reports = ReportReader(policies)
+    watcher = observer if isinstance(observer, ObservationWatcher) else None
     started = time.perf_counter()
     observations = match.reset(seed)
     _write_events(events_file, match.events)
@@ -161,7 +178,7 @@ def run_match(
     bar = tqdm(total=round(total_play_s), unit="s", desc="match", disable=not progress, dynamic_ncols=True)
     steps = 0
     try:
-        match_log.record(match, _estimates(policies))
+        match_log.record(match, reports.estimates(), reports.reports())
         while not match.finished and (max_steps is None or steps < max_steps):
             if observer is not None and observer.done(match):
                 break
@@ -177,13 +194,15 @@ def run_match(
                     actions[agent] = None
             if observer is not None:
                 observer.decided(match, actions)
+            if watcher is not None:
+                watcher.observed(match, observations)
             result = match.step(actions)
             observations = result.observations
             radio.actions(actions)
             radio.observations(observations)
             steps += 1
             _write_events(events_file, result.events)
-            match_log.record(match, _estimates(policies))
+            match_log.record(match, reports.estimates(), reports.reports())
             if progress and steps % PROGRESS_EVERY_STEPS == 0:
                 _update_bar(bar, match, total_play_s, time.perf_counter() - started)
     finally:
@@ -212,16 +231,6 @@ def default_policy_seeds(seed: int, agents: tuple[str, ...]) -> dict[str, int]:
     """One seed per robot's policy, drawn from the match seed apart from the match's own draws."""
     children = np.random.SeedSequence(seed).spawn(POLICY_SEED_STREAM + 1)[POLICY_SEED_STREAM].spawn(len(agents))
     return {agent: int(child.generate_state(1)[0]) for agent, child in zip(agents, children)}
-
-
-def _estimates(policies: Mapping[str, Policy]) -> dict[str, PoseTuple | None]:
-    estimates: dict[str, PoseTuple | None] = {}
-    for agent, policy in policies.items():
-        try:
-            estimates[agent] = policy.pose_estimate() if isinstance(policy, PoseReporter) else None
-        except Exception:  # an estimate is for the log only; a failure there is not a fault of play
-            estimates[agent] = None
-    return estimates
 
 
 def _write_events(handle, events) -> None:

@@ -15,13 +15,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from match.protocol.ids import AgentId, Side
-from match.protocol.kickoff import GOALKEEPER_LINE_X_M
+from match.protocol.kickoff import GOALKEEPER_LINE_X_M, PENALTY_KICKER_BEHIND_BALL_M
 from match.rules import ball_out, goal_crossed
 from world.ball import BallState
 from world.field import FIELD, GoalColor, Pose2D
 
 SHOOTOUT_GOAL = GoalColor.YELLOW  # every shoot-out kick is taken at this goal
-SHOOTOUT_KICKER_BEHIND_BALL_M = 0.22  # the kicker's distance behind the ball on the penalty mark
 BALL_AT_REST_MPS = 0.02  # a ball slower than this (m/s, on the ground plane) is at rest
 OFF_FIELD_Y_M = FIELD.carpet_half_width + 0.3  # |y| of the line where robots out of a kick wait
 WAITING_FIRST_X_M = -2.5  # x of the first waiting robot ...
@@ -160,7 +159,7 @@ class PenaltyShootout:
         for agent in self.agents:
             robot = str(agent)
             if robot == attempt.kicker:
-                pose = Pose2D(mark_x - sign * SHOOTOUT_KICKER_BEHIND_BALL_M, 0.0, facing_goal)
+                pose = Pose2D(mark_x - sign * PENALTY_KICKER_BEHIND_BALL_M, 0.0, facing_goal)
             elif robot == attempt.keeper:
                 pose = Pose2D(sign * GOALKEEPER_LINE_X_M, 0.0, facing_goal + math.pi)
             else:

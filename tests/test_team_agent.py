@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -126,3 +127,19 @@ def _actions_played(privileged: bool, steps: int = 150) -> list[str]:
 def test_the_same_match_with_and_without_privileged_infos_gives_the_same_actions() -> None:
     """Honesty: the agents decide from their observations only, so the ground truth in infos changes nothing."""
     assert _actions_played(privileged=True) == _actions_played(privileged=False)
+
+
+@pytest.mark.render
+def test_it_takes_penalties_in_the_shootout(tmp_path) -> None:
+    """A 1-second half with no goals goes to the shoot-out: the team agent, placed on the penalty
+    mark, knows where it is and scores against a goalkeeper that stands."""
+    from scenarios.matches.play import Lineup, run_lineup_match
+
+    summary = run_lineup_match(
+        tmp_path, Lineup("team", "stand"), home=1, away=1, half_seconds=1.0, seed=2, progress=False,
+        referee={"shootout_kicks": 2, "sudden_death": False, "ready_seconds": 1.0, "shootout_attempt_seconds": 15.0},
+    )
+    kicks = [e for e in map(json.loads, (tmp_path / "events.jsonl").read_text().splitlines())
+             if e["kind"] == "shootout_kick"]
+    assert [k["team"] for k in kicks].count("home") == 2
+    assert summary.shootout is not None and summary.shootout["home"] >= 1, kicks

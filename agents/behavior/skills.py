@@ -231,3 +231,34 @@ def avoid(walk: tuple[float, float, float], sonar_m: tuple[float, ...]) -> tuple
         return walk
     side = -AVOID_SIDE_MPS if left < right else AVOID_SIDE_MPS
     return walk_command(vx * AVOID_SLOWDOWN, side, omega)
+
+
+# ---- going behind the ball ---------------------------------------------------------------
+
+BEHIND_BALL_M = 0.3  # the approach point, this far behind the ball on the line from the aim
+GO_BEHIND_RAD = math.radians(40.0)  # go round when robot->ball and ball->aim differ by more
+GO_BEHIND_BEYOND_M = 0.45  # ... and the ball is farther than this (nearer: orbit it)
+PASS_BALL_SIDE_M = 0.4  # walking round the ball, keep this far from it
+
+
+def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> Pose2D | None:
+    """Where to walk first so as to reach the ball from behind, facing ``aim_xy`` (field frame,
+    m and rad); None when the robot already comes at the ball from behind (or is near it).
+
+    A robot on the far side of the ball walks past it at :data:`PASS_BALL_SIDE_M` on its own
+    side first, so that it never walks through the ball toward its own goal.
+    """
+    bx, by = ball_xy
+    aim = math.atan2(aim_xy[1] - by, aim_xy[0] - bx)
+    dx, dy = bx - pose.x, by - pose.y
+    if math.hypot(dx, dy) < GO_BEHIND_BEYOND_M:
+        return None
+    if abs(math.remainder(math.atan2(dy, dx) - aim, math.tau)) < GO_BEHIND_RAD:
+        return None
+    ux, uy = math.cos(aim), math.sin(aim)
+    ahead = -(dx * ux + dy * uy)  # how far the robot is on the aim side of the ball
+    if ahead > -BEHIND_BALL_M / 2:
+        side = 1.0 if dx * uy - dy * ux >= 0.0 else -1.0  # the robot is left (+1) or right of the aim line
+        return Pose2D(bx - uy * side * PASS_BALL_SIDE_M - ux * BEHIND_BALL_M / 2,
+                      by + ux * side * PASS_BALL_SIDE_M - uy * BEHIND_BALL_M / 2, aim)
+    return Pose2D(bx - ux * BEHIND_BALL_M, by - uy * BEHIND_BALL_M, aim)

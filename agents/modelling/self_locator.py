@@ -6,6 +6,13 @@ in pieces of about :data:`FLUSH_TRAVEL_M` or :data:`FLUSH_TURN_RAD` (its motion 
 modelled per motion, not per 40 ms step), and the landmark percepts of each camera frame
 update it as they come. The pose is in the field frame with an uncertainty: from the
 localizer's covariance after a fix, growing with the distance walked and turned since.
+
+A fix far from the pose the robot tracks (farther than :data:`GATE_M` or :data:`GATE_RAD`,
+or three sigmas) is not believed at once: a playing robot sees few landmarks at a time, and
+a few symmetric ones (the centre circle, one goal's posts from close by) fit a mirrored pose
+as well as the true one. Such a fix is believed when :data:`JUMP_CONFIRMATIONS` fixes in a
+row agree on it (the robot really was moved); until then the localizer is put back on the
+tracked pose.
 """
 
 from __future__ import annotations
@@ -40,6 +47,11 @@ MIN_SIGMA_M = 0.02
 MIN_SIGMA_RAD = math.radians(1.0)
 MAX_SIGMA_M = 5.0
 MAX_SIGMA_RAD = math.pi
+GATE_M = 0.5  # a fix farther than this (or 3 sigma) from the tracked pose is a candidate jump ...
+GATE_RAD = math.radians(35.0)
+JUMP_CONFIRMATIONS = 4  # ... believed when this many fixes in a row agree on it ...
+AGREE_M = 0.4  # ... within these of the last one
+AGREE_RAD = math.radians(30.0)
 
 
 class SelfLocator:
@@ -51,20 +63,24 @@ class SelfLocator:
         self.sigma_m = MAX_SIGMA_M
         self.sigma_rad = MAX_SIGMA_RAD
         self.last_fix: PoseEstimate | None = None
+        self.rejected_fixes = 0  # far fixes not believed (statistics)
+        self._tracked: Pose2D | None = self.localizer.pose
+        self._candidates: list[Pose2D] = []
         self._pending = Displacement(0.0, 0.0, 0.0)
 
     @property
     def pose(self) -> Pose2D | None:
         """The pose as of now, odometry not yet handed to the localizer included."""
-        pose = self.localizer.pose
-        if pose is None:
+        if self._tracked is None:
             return None
-        return compose(pose, self._pending)
+        return compose(self._tracked, self._pending)
 
     def reset(self, pose: Pose2D) -> None:
         """A known pose (placed at a kick-off position)."""
         self._pending = Displacement(0.0, 0.0, 0.0)
         self.localizer.reset(pose)
+        self._tracked = pose
+        self._candidates.clear()
         self.sigma_m, self.sigma_rad = RESET_SIGMA_M, RESET_SIGMA_RAD
 
     def move(self, step: Displacement) -> None:
@@ -91,6 +107,11 @@ class SelfLocator:
         estimate = self.localizer.localize(percepts)
         if estimate is None or estimate.source is EstimateSource.ODOMETER:
             return None
+        if not self._believe(estimate.pose):
+            self.rejected_fixes += 1
+            self.localizer.reset(self._tracked)
+            return None
+        self._tracked = estimate.pose
         self.last_fix = estimate
         if estimate.covariance is not None:
             cov = np.asarray(estimate.covariance, float)
@@ -101,9 +122,31 @@ class SelfLocator:
         self.sigma_m, self.sigma_rad = max(sigma_m, MIN_SIGMA_M), max(sigma_rad, MIN_SIGMA_RAD)
         return estimate
 
+    def _believe(self, fix: Pose2D) -> bool:
+        """Whether a fix is taken: near the tracked pose, or the last of enough far fixes that agree."""
+        tracked = self._tracked
+        if tracked is None or _near(fix, tracked, max(GATE_M, 3.0 * self.sigma_m), max(GATE_RAD, 3.0 * self.sigma_rad)):
+            self._candidates.clear()
+            return True
+        if self._candidates and not _near(fix, self._candidates[-1], AGREE_M, AGREE_RAD):
+            self._candidates.clear()
+        self._candidates.append(fix)
+        if len(self._candidates) >= JUMP_CONFIRMATIONS:
+            self._candidates.clear()
+            return True
+        return False
+
     def _flush(self) -> None:
         pending = self._pending
         if pending.forward_m or pending.left_m or pending.turn_rad:
             self._pending = Displacement(0.0, 0.0, 0.0)
+            moved = Displacement(pending.forward_m, pending.left_m, math.remainder(pending.turn_rad, math.tau))
             if self.localizer.pose is not None:
-                self.localizer.move(Displacement(pending.forward_m, pending.left_m, math.remainder(pending.turn_rad, math.tau)))
+                self.localizer.move(moved)
+            if self._tracked is not None:
+                self._tracked = compose(self._tracked, moved)
+
+
+def _near(a: Pose2D, b: Pose2D, within_m: float, within_rad: float) -> bool:
+    return (math.hypot(a.x - b.x, a.y - b.y) <= within_m
+            and abs(math.remainder(a.theta - b.theta, math.tau)) <= within_rad)

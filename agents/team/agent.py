@@ -30,9 +30,10 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from agents.behavior import skills
+from agents.behavior import paths, skills
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.modelling.ball_model import BallEstimate, BallModel
+from agents.modelling.obstacle_model import ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
@@ -41,6 +42,7 @@ from agents.vision.ball import ball_in_mask, plausible
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
 from agents.vision.pipeline import VisionPipeline
+from agents.vision.robots import find_robots
 from match.protocol import (
     AgentId,
     CameraChoice,
@@ -50,8 +52,10 @@ from match.protocol import (
     KickOff,
     Motion,
     Pose2D,
+    SecondaryState,
     kickoff_pose,
     make_action,
+    penalty_pose,
 )
 from world.camera_model import CameraPosition
 from world.field import FIELD
@@ -68,12 +72,14 @@ GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
 GLANCE_S = 0.8  # ... for this long
 UNCERTAIN_M = 0.25
 PLACED_FAR_M = 0.6  # in SET, farther than this from the kick-off pose: the referee placed it
-UPRIGHT_ACCELERATION_MPS2 = 8.0  # torso z reads g cos(tilt): below this the robot is tilting (falling)
+UPRIGHT_ACCELERATION_MPS2 = 8.0  # torso z reads g cos(tilt): below this (low-passed) the robot is falling
+UPRIGHT_SMOOTHING = 0.2  # the low-pass weight of a new reading: walking shakes single readings to 6-14 m/s^2
 FALL_SIGMA_M = 0.2  # a fall adds this much position uncertainty ...
 FALL_SIGMA_RAD = math.radians(30.0)  # ... and this much heading uncertainty
 KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within this (pose estimate)
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
+CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
 SIDELINE_MARGIN_M = 0.35  # nearer the side line than this, kick only facing into the field
 
 
@@ -93,6 +99,7 @@ class TeamAgent:
         self.player = AgentId.parse(agent_id).player
         self.locator = SelfLocator(self.method, seed)
         self.ball = BallModel()
+        self.obstacles = ObstacleModel()
         self.team = TeamModel(self.player)
         self.role = Role.NONE
         self.intention = Intention.NONE
@@ -108,6 +115,7 @@ class TeamAgent:
         self._next_glance_s = 0.0
         self._own_goal_ahead_s = -math.inf
         self._was_fallen = False
+        self._acceleration_z = 9.81
         self._time_to_ball_s = math.inf
 
     @property
@@ -130,8 +138,8 @@ class TeamAgent:
             self._see(obs)
         self._follow_game(obs)
         motion, walk, head = self._decide(obs, busy)
-        if motion is Motion.WALK and self.avoid_obstacles:
-            walk = skills.avoid(walk, obs.sonar_m)
+        if motion is Motion.WALK and self.avoid_obstacles and not self._contesting():
+            walk = paths.steer_around(walk, self.obstacles.obstacles())
         self._walk = walk if motion is Motion.WALK else skills.STILL
         radio = self._message(obs).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
         camera = CameraChoice.of(self._camera) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
@@ -144,12 +152,15 @@ class TeamAgent:
         turn as the gyro measured it (it also feels pushes and collisions)."""
         walking = obs.motion is Motion.WALK
         vx, vy, _ = self._walk if walking else skills.STILL
+        self._acceleration_z += UPRIGHT_SMOOTHING * (obs.accelerometer_mps2[2] - self._acceleration_z)
         upright = (not obs.fallen and not (obs.motion is not None and obs.motion.is_stand_up)
-                   and obs.accelerometer_mps2[2] > UPRIGHT_ACCELERATION_MPS2)
+                   and self._acceleration_z > UPRIGHT_ACCELERATION_MPS2)
         omega = obs.gyro_radps[2] if upright else 0.0
         moved = _arc(vx, vy, omega, DT_S)
         self.locator.move(moved)
         self.ball.predict(DT_S, moved)
+        self.obstacles.predict(moved, DT_S)
+        self.obstacles.hear_sonar(obs.sonar_m)
         if obs.fallen and not self._was_fallen:
             self.locator.sigma_m += FALL_SIGMA_M
             self.locator.sigma_rad += FALL_SIGMA_RAD
@@ -166,6 +177,7 @@ class TeamAgent:
     def _see(self, obs: Observation) -> None:
         frame = CameraFrame.from_observation(obs)
         result = self.pipeline.process(frame)
+        self._seen = (self.step, result.percepts)  # the last frame's landmarks, for report()
         self.locator.update(result.percepts)
         own_goal = obs.game.defended_goal
         for percept in result.percepts:
@@ -175,11 +187,22 @@ class TeamAgent:
         ball = ball_in_mask(mask, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
         if ball is not None and plausible(ball):
             self.ball.measure(ball.distance_m, ball.bearing_rad)
+        self.obstacles.see(find_robots(result.segmented, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera,
+                                       obs.game.team_color))
 
     def _follow_game(self, obs: Observation) -> None:
-        """Resets at the kick-off pose (thesis 5.5) when the referee placed the robot there."""
+        """Resets at the kick-off pose (thesis 5.5) when the referee placed the robot there,
+        and at the penalty kicker's or goalkeeper's pose when a shoot-out kick is set."""
         state, defended = obs.game.state, obs.game.defended_goal
-        start = kickoff_pose(self.player, obs.game.kickoff is KickOff.OWN_TEAM, defended)
+        kicking = obs.game.kickoff is KickOff.OWN_TEAM
+        if _shootout(obs):
+            set_anew = state is GameState.SET and (self._state is not GameState.SET or defended is not self._defended)
+            if set_anew or self.locator.pose is None:
+                self.locator.reset(penalty_pose(kicking, defended))
+                self.ball.reset()
+            self._state, self._defended = state, defended
+            return
+        start = kickoff_pose(self.player, kicking, defended)
         pose = self.locator.pose
         if state is GameState.INITIAL and (self._state is not GameState.INITIAL or defended is not self._defended):
             self.locator.reset(start)
@@ -217,7 +240,10 @@ class TeamAgent:
         if obs.motion is not None and obs.motion.is_kick:
             return obs.motion, skills.STILL, head
         attack = 1.0 if obs.game.defended_goal is GoalColor.BLUE else -1.0
-        self.role = self._assign_role(pose, ball_field, obs)
+        self.role = self._shootout_role(obs) if _shootout(obs) else self._assign_role(pose, ball_field, obs)
+        if self.role is Role.NONE:
+            self.intention = Intention.NONE
+            return Motion.STAND, skills.STILL, head
         if self.role is Role.STRIKER or (self.role is Role.GOALKEEPER and self._keeper_clears(ball_rel, pose, attack)):
             return self._strike(pose, ball_rel, ball_field, attack, head)
         self.intention = Intention.POSITION
@@ -243,6 +269,13 @@ class TeamAgent:
                   if not m.message.fallen]
         return assign_role(Candidate(self.player, own_time), others, self.role)
 
+    def _shootout_role(self, obs: Observation) -> Role:
+        """In a shoot-out the kicking team's robot on the field strikes, the other team's player 0
+        keeps the goal, everyone else (held off the field) stands."""
+        if obs.game.kickoff is KickOff.OWN_TEAM:
+            return Role.STRIKER
+        return Role.GOALKEEPER if self.player == 0 else Role.NONE
+
     def _keeper_clears(self, ball_rel: BallEstimate | None, pose: Pose2D, attack: float) -> bool:
         """The goalkeeper leaves its line for a ball close to it in its own goal area."""
         if ball_rel is None or ball_rel.distance_m > 0.6:
@@ -261,6 +294,10 @@ class TeamAgent:
             return motion, walk, head
         self.intention = Intention.GO_TO_BALL
         goal_x = FIELD.half_length * attack
+        waypoint = skills.behind_ball(pose, _in_field(pose, ball_rel), (goal_x, 0.0))
+        if waypoint is not None:
+            motion, walk = skills.walk_to(pose, waypoint)
+            return motion, walk, head
         aim = math.atan2(0.0 - pose.y, goal_x - pose.x)
         heading_error = math.remainder(aim - pose.theta, math.tau)
         motion, walk = skills.chase(ball_rel, heading_error)
@@ -270,6 +307,11 @@ class TeamAgent:
             else:
                 self.intention = Intention.KICK
         return motion, walk, head
+
+    def _contesting(self) -> bool:
+        """The striker near its ball goes for it, whoever stands there."""
+        ball = self._own_ball()
+        return self.role is Role.STRIKER and ball is not None and ball.distance_m < CONTEST_BALL_M
 
     def _may_kick(self, pose: Pose2D, heading_error: float) -> bool:
         """Facing the opponent goal by the pose, not the own goal by the eyes, not out over a side line."""
@@ -333,6 +375,39 @@ class TeamAgent:
             intention=self.intention,
             time_to_ball_s=self._time_to_ball_s,
         )
+
+    def report(self):
+        """What it believes beside its pose, for the match log (``match.protocol.AgentReporter``): its own
+        ball and the team ball (field frame, as ``_decide`` uses them), its role, and the landmarks of its
+        last camera frame if that frame is at most one camera period old. None before it has a pose."""
+        from agents.team.report import landmarks_seen  # imported here to keep this method self-contained
+        from match.protocol import AgentReport
+
+        pose = self.locator.pose
+        if pose is None:
+            return None
+        ball_rel = self._own_ball()
+        own = None if ball_rel is None else self.ball.in_field((pose.x, pose.y, pose.theta), self.locator.sigma_m,
+                                                                self.locator.sigma_rad)
+        team = self._team_ball(pose, ball_rel)
+        seen_step, percepts = getattr(self, "_seen", (-1, ()))
+        recent = 0 <= self.step - seen_step <= CAMERA_EVERY_STEPS
+        return AgentReport(
+            ball_xy=None if own is None else (own.x, own.y),
+            team_ball_xy=None if team is None else (team.x, team.y),
+            role=None if self.role is Role.NONE else self.role.name.lower(),
+            landmarks_seen=landmarks_seen(percepts, pose) if recent else frozenset(),
+        )
+
+
+def _shootout(obs: Observation) -> bool:
+    return obs.game.secondary is SecondaryState.PENALTY_SHOOTOUT
+
+
+def _in_field(pose: Pose2D, rel: BallEstimate) -> tuple[float, float]:
+    """A robot-relative position (m) in the field frame through ``pose``."""
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    return pose.x + c * rel.x - s * rel.y, pose.y + s * rel.x + c * rel.y
 
 
 def _arc(vx: float, vy: float, omega: float, dt: float) -> Displacement:

@@ -4,7 +4,8 @@ Left: the camera image with the recognized landmarks labelled. Right: the segmen
 image (Table 4.1 colours) with the field border in red, goal posts outlined in purple
 (rejected candidates in red), scan-line runs coloured by the criterion that rejected them
 (kept: black; 1 orange, 2 magenta, 3 cyan, 4 yellow, as in thesis Figure 4.7), formed lines
-in blue and their least-squares curves in magenta. Both halves are enlarged ``scale`` times.
+in blue and their least-squares curves in magenta; the ball, when given, circled in orange on
+both halves with its distance. Both halves are enlarged ``scale`` times.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from agents.vision.ball import BallPercept
 from agents.vision.colors import DISPLAY_RGB
 from agents.vision.lines import LineTrace
 from agents.vision.percepts import LandmarkPercept
@@ -28,6 +30,7 @@ LINE_RGB = (0, 0, 255)
 CURVE_RGB = (255, 0, 255)
 LABEL_RGB = (255, 0, 0)
 DROPPED_RGB = (128, 128, 128)  # corners and junctions the verification dropped
+BALL_RGB = (255, 120, 0)
 _PALETTE = np.array([DISPLAY_RGB[c] for c in sorted(DISPLAY_RGB)], np.uint8)
 
 
@@ -74,8 +77,9 @@ def _draw_lines(canvas: np.ndarray, trace: LineTrace, scale: int, off: int) -> N
         cv2.drawMarker(canvas, _point(scale, u, v, off), DROPPED_RGB, cv2.MARKER_TILTED_CROSS, 3 * scale, 1)
 
 
-def draw_overlay(result: FrameResult, image: np.ndarray, scale: int = 4) -> np.ndarray:
-    """The debug picture of ``result`` (from ``image``), RGB uint8 of (H*scale, 2*W*scale, 3)."""
+def draw_overlay(result: FrameResult, image: np.ndarray, scale: int = 4, ball: BallPercept | None = None) -> np.ndarray:
+    """The debug picture of ``result`` (from ``image``), RGB uint8 of (H*scale, 2*W*scale, 3);
+    ``ball``: the ball found in the same image (:func:`agents.vision.ball.ball_in_mask`), if any."""
     h, w = result.segmented.shape
     left = cv2.resize(image, (w * scale, h * scale), interpolation=cv2.INTER_NEAREST)
     right = cv2.resize(segmented_rgb(result.segmented), (w * scale, h * scale), interpolation=cv2.INTER_NEAREST)
@@ -98,6 +102,13 @@ def draw_overlay(result: FrameResult, image: np.ndarray, scale: int = 4) -> np.n
             cv2.circle(canvas, _point(scale, u, v, x_offset), 2 * scale, LABEL_RGB, 2)
         anchor = _point(scale, u, v)
         cv2.putText(canvas, _label(percept), (anchor[0] + 6, anchor[1] - 6), cv2.FONT_HERSHEY_SIMPLEX, 0.4, LABEL_RGB, 1)
+    if ball is not None:
+        radius = int(round((np.sqrt(ball.pixels / np.pi) + 1.5) * scale))
+        for x_offset in (0, off):
+            cv2.circle(canvas, _point(scale, ball.pixel_u, ball.pixel_v, x_offset), radius, BALL_RGB, 2)
+        anchor = _point(scale, ball.pixel_u, ball.pixel_v)
+        cv2.putText(canvas, f"ball {ball.distance_m:.2f}m", (anchor[0] + radius + 2, anchor[1] + 4),
+                    cv2.FONT_HERSHEY_SIMPLEX, 0.4, BALL_RGB, 1)
     return canvas
 
 

@@ -7,9 +7,9 @@ from match.errors import InvalidActionError, RadioPacketError, UnknownAgentError
 from match.protocol.actions import ACTION_KEYS, STAND, Action, make_action, parse_action
 from match.protocol.game_control import GameControlData, GameControlView, GameState, KickOff, SecondaryState
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side, roster
-from match.protocol.kickoff import DEFENDING_POSITIONS, KICKING_POSITIONS, kickoff_pose
+from match.protocol.kickoff import DEFENDING_POSITIONS, KICKING_POSITIONS, kickoff_pose, penalty_pose
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
-from match.protocol.policy import Policy, PoseReporter, PoseTuple
+from match.protocol.policy import AgentReport, AgentReporter, Policy, PoseReporter, PoseTuple
 from match.protocol.spaces import MOTIONS, NO_MOTION, WALK_HIGH, WALK_LOW, CameraChoice, action_space, observation_space
 from world.field import GoalColor, Pose2D
 from world.motions import Displacement, Motion
@@ -29,6 +29,8 @@ __all__ = [
     "WALK_LOW",
     "Action",
     "AgentId",
+    "AgentReport",
+    "AgentReporter",
     "CameraChoice",
     "Displacement",
     "GameControlData",
@@ -50,6 +52,7 @@ __all__ = [
     "UnknownAgentError",
     "action_space",
     "kickoff_pose",
+    "penalty_pose",
     "make_action",
     "observation_space",
     "parse_action",

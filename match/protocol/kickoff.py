@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from world.field import GoalColor, Pose2D
+from world.field import FIELD, GoalColor, Pose2D
 
 GOALKEEPER_LINE_X_M = 2.85  # |x| (m) of a goalkeeper placed on its goal line, 0.15 m inside the 3 m line
 
@@ -28,6 +28,8 @@ DEFENDING_POSITIONS: tuple[tuple[float, float, float], ...] = (
     (-1.6, -1.1, 0.0),
 )
 
+PENALTY_KICKER_BEHIND_BALL_M = 0.22  # a penalty kicker stands this far behind the ball on the penalty mark
+
 
 def kickoff_pose(player: int, kicking: bool, defended_goal: GoalColor) -> Pose2D:
     """Where ``player`` stands at a kick-off (field frame: m, rad); player 0 is the goalkeeper."""
@@ -35,6 +37,19 @@ def kickoff_pose(player: int, kicking: bool, defended_goal: GoalColor) -> Pose2D
     if not 0 <= player < len(table):
         raise ValueError(f"player number {player!r} outside [0, {len(table) - 1}]")
     x, y, theta = table[player]
+    if defended_goal is GoalColor.BLUE:
+        return Pose2D(x, y, theta)
+    return Pose2D(-x, -y, math.pi)
+
+
+def penalty_pose(kicker: bool, defended_goal: GoalColor) -> Pose2D:
+    """Where a shoot-out kick places the kicker (behind the ball on the penalty mark before the
+    goal it attacks, facing it) or the goalkeeper (on its goal line, facing the field); field
+    frame, m and rad. ``defended_goal``: the goal the robot's team defends for this kick."""
+    if kicker:
+        x, y, theta = FIELD.penalty_mark_x - PENALTY_KICKER_BEHIND_BALL_M, 0.0, 0.0
+    else:
+        x, y, theta = -GOALKEEPER_LINE_X_M, 0.0, 0.0
     if defended_goal is GoalColor.BLUE:
         return Pose2D(x, y, theta)
     return Pose2D(-x, -y, math.pi)

@@ -84,6 +84,18 @@ def policy_override(text: str) -> tuple[str, str]:
     return str(agent_id), policy_name(name.strip())
 
 
+def robot_or_all(text: str) -> str:
+    """argparse type: an agent id (``home_0`` .. ``away_3``) or ``all``."""
+    from match.protocol.ids import AgentId
+
+    if text.strip() == "all":
+        return "all"
+    try:
+        return str(AgentId.parse(text.strip()))
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(f"expected a robot (home_0 .. away_3) or all; {error}") from None
+
+
 def localizer_names() -> Iterable[str]:
     """The localization methods' names (loaded when an argument names them)."""
     from agents.localization import LOCALIZERS

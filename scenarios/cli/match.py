@@ -5,23 +5,26 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from scenarios.cli.arguments import EXIT_OK, policy_name, policy_override, positive_float, positive_int
+from agents.policies import DEFAULT_POLICY
+from scenarios.cli.arguments import EXIT_OK, policy_name, policy_override, positive_float, positive_int, robot_or_all
 
 NAME = "match"
 HELP = "run a full match headless between policies chosen by name"
 DESCRIPTION = (
     "Play a match (two halves, kick-offs, goals, throw-ins, half-time, penalty shoot-out on a tie) "
     "and write summary.json, events.jsonl and match_log.npz into --out, then the replay page replay.html "
-    "and the figures traces.png and localization.png (--no-replay: not those). A policy is a built-in name "
-    "(scripted, scan_localize, stand) or a class of yours as package.module:ClassName."
+    "and the figures traces.png and localization.png (--no-replay: not those); --video ROBOT also writes "
+    "video_ROBOT.mp4, that robot's camera with its vision overlay and a field map. A policy is a built-in name "
+    "(team, its variants, scripted, scan_localize, stand: see the README) or a class of yours as "
+    "package.module:ClassName."
 )
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--home", type=policy_name, default="scripted", metavar="POLICY",
-                        help="the home team's policy (default scripted)")
-    parser.add_argument("--away", type=policy_name, default="scripted", metavar="POLICY",
-                        help="the away team's policy (default scripted)")
+    parser.add_argument("--home", type=policy_name, default=DEFAULT_POLICY, metavar="POLICY",
+                        help=f"the home team's policy (default {DEFAULT_POLICY})")
+    parser.add_argument("--away", type=policy_name, default=DEFAULT_POLICY, metavar="POLICY",
+                        help=f"the away team's policy (default {DEFAULT_POLICY})")
     parser.add_argument("--policy", type=policy_override, action="append", default=[], metavar="AGENT=POLICY",
                         help="one robot's policy, e.g. home_2=mypkg.mod:Striker (repeatable)")
     parser.add_argument("--home-players", type=positive_int, default=4, metavar="N", help="home players, 1-4 (default 4)")
@@ -35,10 +38,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="decide a tie by penalty shoot-out (default: yes)")
     parser.add_argument("--no-replay", dest="replay", action="store_false",
                         help="do not write the replay page and figures (replay.html, traces.png, localization.png)")
+    parser.add_argument("--video", type=robot_or_all, action="append", default=[], metavar="ROBOT",
+                        help="write video_ROBOT.mp4: the robot's camera frames beside its vision debug overlay and a "
+                             "field map with its estimate and true pose (repeatable; all: every robot)")
 
 
 def run(args: argparse.Namespace) -> int:
-    from scenarios.matches.play import Lineup, run_lineup_match
+    from match.protocol.ids import roster
+    from scenarios.matches.play import Lineup, run_lineup_match, video_robots
+    from scenarios.matches.video import video_name
 
     robots = [robot for robot, _ in args.policy]
     twice = sorted({robot for robot in robots if robots.count(robot) > 1})
@@ -47,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     lineup = Lineup(args.home, args.away, dict(args.policy))
     summary = run_lineup_match(
         args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
-        seed=args.seed, shootout=args.shootout, progress=args.progress,
+        seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
     )
     score = summary.score
     result = f"home {score['home']} - {score['away']} away"
@@ -56,6 +64,9 @@ def run(args: argparse.Namespace) -> int:
     print(f"{result}; {summary.sim_seconds:.0f} s simulated in {summary.wall_seconds:.0f} s "
           f"({summary.real_time_factor:.2f}x real time)")
     print(Path(args.out) / "summary.json")
+    for agent in video_robots(args.video, roster(args.home_players, args.away_players)):
+        if (Path(args.out) / video_name(agent)).exists():  # none for a robot whose camera gave no frame
+            print(Path(args.out) / video_name(agent))
     if args.replay:
         from scenarios.replay import write_replay
 

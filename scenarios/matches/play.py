@@ -2,12 +2,13 @@
 
 A team plays one policy name (``--home``/``--away``); single robots can play another
 (``--policy home_2=NAME``). Names are those of :mod:`agents.policies`: built in, or
-``package.module:ClassName``. Every name is resolved before anything is built or written.
+``package.module:ClassName``. Every name is resolved before anything is built or written, and
+so are the robots whose camera videos are asked for (``--video``, :mod:`scenarios.matches.video`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -16,6 +17,9 @@ from match.game import Match, MatchConfig
 from match.protocol import Policy
 from match.protocol.ids import AgentId, Side, roster
 from match.runner import MatchSummary, run_match
+
+
+ALL_ROBOTS = "all"  # --video all
 
 
 class LineupError(ValueError):
@@ -54,6 +58,17 @@ class Lineup:
             raise LineupError(str(error)) from None
 
 
+def video_robots(requested: Sequence[str], agents: tuple[AgentId, ...]) -> tuple[str, ...]:
+    """The robots of ``requested`` (agent ids, or ``all``) in field order; :class:`LineupError`
+    for a robot not on the field."""
+    on_field = [str(a) for a in agents]
+    for robot in requested:
+        if robot != ALL_ROBOTS and robot not in on_field:
+            raise LineupError(f"--video {robot}: {robot} is not on the field; robots: {', '.join(on_field)} "
+                              f"(or {ALL_ROBOTS})")
+    return tuple(a for a in on_field if ALL_ROBOTS in requested or a in requested)
+
+
 def match_config(home: int = 4, away: int = 4, half_seconds: float = 600.0, shootout: bool = True,
                  referee: Mapping[str, object] | None = None) -> MatchConfig:
     """The match of ``home`` against ``away`` robots; ``referee``: other referee settings (RefereeConfig fields)."""
@@ -74,17 +89,30 @@ def run_lineup_match(
     progress: bool = True,
     max_steps: int | None = None,
     referee: Mapping[str, object] | None = None,
+    videos: Sequence[str] = (),
 ) -> MatchSummary:
     """Play one match of ``home`` against ``away`` robots with the line-up's policies.
 
     ``referee``: referee settings other than the half's length and the shoot-out (e.g. the
-    tournament's shorter pauses before the kick-off, for tests).
+    tournament's shorter pauses before the kick-off, for tests). ``videos``: robots (agent
+    ids, or ``all``) whose camera videos are written into ``out_dir`` (``video_<agent>.mp4``).
     """
     config = match_config(home, away, half_seconds, shootout, referee)
-    policies = lineup.policies(roster(home, away))  # refused here, before the world is built
+    agents = roster(home, away)
+    filmed = video_robots(videos, agents)  # refused here, before the world is built
+    if filmed and out_dir is None:
+        raise LineupError(f"--video {', '.join(videos)}: videos need an output directory")
+    policies = lineup.policies(agents)  # refused here too
     match = Match(config)
     try:
-        return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
-                         match=match)
+        if not filmed:
+            return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
+                             match=match)
+        from scenarios.matches.video import VideoRecorder  # only when a video is asked for (not in tournaments)
+
+        assert out_dir is not None
+        with VideoRecorder(out_dir, filmed, policies) as recorder:
+            return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
+                             match=match, observer=recorder)
     finally:
         match.close()
