@@ -86,9 +86,23 @@ def test_no_kick_out_over_the_side_line() -> None:
     near_line = Pose2D(0.0, 1.8, 0.03)  # the goal is 33 degrees to the right; this heading leaves the field
     motion, _, _ = agent._strike(near_line, ball, None, 1.0, (0.0, 0.0))
     assert not motion.is_kick
-    inward = Pose2D(0.0, 1.8, -0.2)
+    inward = Pose2D(0.0, 1.8, -0.55)  # toward the goal's centre
     motion, _, _ = agent._strike(inward, ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick
+
+
+@pytest.mark.parametrize("x, theta, kicks", [
+    (1.0, 0.0, True),  # 2 m out, straight at the goal
+    (1.0, 0.45, False),  # 2 m out, the kick's line passes 0.9 m left of the centre: beside the post
+    (-2.0, 0.45, True),  # 5 m out (beyond a kick's roll): moving the ball on within 35 degrees is enough
+    (-2.0, 0.7, False),
+])
+def test_in_shooting_range_it_kicks_only_between_the_posts(x: float, theta: float, kicks: bool) -> None:
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
+    motion, _, _ = agent._strike(Pose2D(x, 0.0, theta), ball, None, 1.0, (0.0, 0.0))
+    assert motion.is_kick is kicks
 
 
 @pytest.mark.render

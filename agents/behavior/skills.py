@@ -249,6 +249,8 @@ def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float,
     side first, so that it never walks through the ball toward its own goal.
     """
     bx, by = ball_xy
+    if abs(bx) > FIELD.half_length or abs(by) > FIELD.half_width:
+        return None  # a ball out of the field: no room behind it, go straight to it
     aim = math.atan2(aim_xy[1] - by, aim_xy[0] - bx)
     dx, dy = bx - pose.x, by - pose.y
     if math.hypot(dx, dy) < GO_BEHIND_BEYOND_M:

@@ -80,6 +80,8 @@ KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within thi
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
 CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
+SHOOTING_RANGE_M = 4.5  # a kick rolls about 4 m: nearer the goal than this, kick only when the kick's line passes between the posts ...
+POST_MARGIN_M = 0.15  # ... this far inside them
 SIDELINE_MARGIN_M = 0.35  # nearer the side line than this, kick only facing into the field
 
 
@@ -294,15 +296,15 @@ class TeamAgent:
             return motion, walk, head
         self.intention = Intention.GO_TO_BALL
         goal_x = FIELD.half_length * attack
-        waypoint = skills.behind_ball(pose, _in_field(pose, ball_rel), (goal_x, 0.0))
+        ball_xy = _in_field(pose, ball_rel)
+        waypoint = skills.behind_ball(pose, ball_xy, (goal_x, 0.0))
         if waypoint is not None:
             motion, walk = skills.walk_to(pose, waypoint)
             return motion, walk, head
-        aim = math.atan2(0.0 - pose.y, goal_x - pose.x)
-        heading_error = math.remainder(aim - pose.theta, math.tau)
+        heading_error = math.remainder(math.atan2(-ball_xy[1], goal_x - ball_xy[0]) - pose.theta, math.tau)
         motion, walk = skills.chase(ball_rel, heading_error)
         if motion.is_kick:
-            if not self._may_kick(pose, heading_error):
+            if not self._may_kick(pose, ball_xy, goal_x, heading_error):
                 motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
             else:
                 self.intention = Intention.KICK
@@ -313,9 +315,13 @@ class TeamAgent:
         ball = self._own_ball()
         return self.role is Role.STRIKER and ball is not None and ball.distance_m < CONTEST_BALL_M
 
-    def _may_kick(self, pose: Pose2D, heading_error: float) -> bool:
-        """Facing the opponent goal by the pose, not the own goal by the eyes, not out over a side line."""
-        if abs(heading_error) > KICK_ALIGN_RAD:
+    def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float) -> bool:
+        """Facing the opponent goal by the pose (within its posts when in shooting range: the kick
+        goes where the robot faces), not the own goal by the eyes, not out over a side line."""
+        if math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M:
+            if not _on_target(pose.theta, ball_xy, goal_x):
+                return False
+        elif abs(heading_error) > KICK_ALIGN_RAD:
             return False
         if self.now_s - self._own_goal_ahead_s < OWN_GOAL_MEMORY_S:
             return False
@@ -398,6 +404,16 @@ class TeamAgent:
             role=None if self.role is Role.NONE else self.role.name.lower(),
             landmarks_seen=landmarks_seen(percepts, pose) if recent else frozenset(),
         )
+
+
+def _on_target(heading_rad: float, ball_xy: tuple[float, float], goal_x: float) -> bool:
+    """Whether a ball kicked along ``heading_rad`` from ``ball_xy`` crosses the goal line at
+    ``goal_x`` between the posts (field frame)."""
+    toward = math.cos(heading_rad) * (goal_x - ball_xy[0])
+    if toward <= 0.0:
+        return False
+    y_at_line = ball_xy[1] + math.tan(heading_rad) * (goal_x - ball_xy[0])
+    return abs(y_at_line) < FIELD.goal_post_y - POST_MARGIN_M
 
 
 def _shootout(obs: Observation) -> bool:
