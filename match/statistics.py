@@ -24,7 +24,15 @@ shoot-out's kicks count for nothing here):
 - ``position_error_mean_m``, ``position_error_p95_m``, ``orientation_error_mean_deg``,
   ``orientation_error_p95_deg``: over every control step of playing time and every robot
   of the team whose policy reported a pose estimate (None when none did);
-  ``pose_estimates`` counts those robot-steps.
+  ``pose_estimates`` counts those robot-steps; ``lost_share``: the share of them more than
+  :data:`LOST_M` off;
+- ``longest_still_s``: the longest stretch of playing time in which one of the team's robots
+  stayed within :data:`STILL_M` and :data:`STILL_RAD` of where it was (a stuck robot; a
+  goalkeeper with the ball far away may also stand);
+
+and for the match, ``restart_max_s``: the longest time from a kick-off or throw-in to the
+next touch of the ball (None without restarts; a restart nobody touched counts until the
+next restart or the end of play).
 """
 
 from __future__ import annotations
@@ -44,6 +52,10 @@ SHOOTOUT = "PENALTY_SHOOTOUT"  # the secondary state of the shoot-out's state ev
 PLACED_STEP_M = 0.3  # a ball moving this far in one 40 ms step (7.5 m/s) was placed, not played
 GOALWARD_STEP_M = 1e-3  # moving toward the goal line: at least this far in one step (2.5 cm/s)
 TIME_TOLERANCE_S = 1e-3  # event times are rounded to the millisecond
+LOST_M = 0.5  # a pose estimate farther off than this is lost
+STILL_M = 0.1  # a robot that stays within this of a place ...
+STILL_RAD = math.radians(15.0)  # ... and of a heading, stands still
+RESTART_KINDS = ("kickoff", "throw_in")
 
 TEAM_KEYS = (
     "goals",
@@ -63,6 +75,8 @@ TEAM_KEYS = (
     "position_error_p95_m",
     "orientation_error_mean_deg",
     "orientation_error_p95_deg",
+    "lost_share",
+    "longest_still_s",
 )
 
 
@@ -114,7 +128,22 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
             teams[side][f"radio_{key}"] = int(radio[key]) if radio else None
 
     playing_seconds = _from_log(teams, play_events, log, shootout_s)
-    return {"playing_seconds": round(playing_seconds, 3), **teams}
+    return {"playing_seconds": round(playing_seconds, 3), "restart_max_s": _restart_max_s(play_events), **teams}
+
+
+def _restart_max_s(play_events: Sequence[Mapping]) -> float | None:
+    """The longest time from a kick-off or throw-in to the next touch (or next restart, or the end)."""
+    longest = None
+    restart_s = None
+    for event in play_events:
+        kind = event["kind"]
+        if restart_s is not None and (kind == "touch" or kind in RESTART_KINDS or kind in ("half_time", "end")):
+            wait = float(event["time_s"]) - restart_s
+            longest = wait if longest is None else max(longest, wait)
+            restart_s = None
+        if kind in RESTART_KINDS:
+            restart_s = float(event["time_s"])
+    return None if longest is None else round(longest, 3)
 
 
 def _shootout_index(events: Sequence[Mapping]) -> int:
@@ -154,7 +183,32 @@ def _from_log(teams: dict, play_events: Sequence[Mapping], log: Mapping[str, np.
         shot_rows = in_area & (g * step[:, 0] > GOALWARD_STEP_M) & played & (owner == side)
         teams[side]["shots_on_target"] = int(np.unique(last[shot_rows]).size)
     _pose_errors(teams, log, rows)
+    _stillness(teams, log, rows)
     return float(dt.sum())
+
+
+def _stillness(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:
+    """The longest stretch of playing time any robot of each team stood still (see the module)."""
+    agents = [str(a) for a in np.asarray(log["agents"])]
+    time_s = np.asarray(log["time_s"], dtype=float)
+    robots = np.asarray(log["robots"], dtype=float)
+    for side in SIDES:
+        teams[side]["longest_still_s"] = 0.0
+    for i, agent in enumerate(agents):
+        side = side_of(agent)
+        if side is None or rows.size == 0:
+            continue
+        longest, start = 0.0, 0
+        anchor = robots[rows[0], i]
+        for k in range(1, rows.size):
+            pose = robots[rows[k], i]
+            gap = rows[k] != rows[k - 1] + 1  # play stopped in between: a new stretch
+            moved = (math.hypot(pose[0] - anchor[0], pose[1] - anchor[1]) > STILL_M
+                     or abs(math.remainder(pose[2] - anchor[2], math.tau)) > STILL_RAD)
+            if gap or moved:
+                start, anchor = k, pose
+            longest = max(longest, time_s[rows[k]] - time_s[rows[start]])
+        teams[side]["longest_still_s"] = round(max(teams[side]["longest_still_s"], longest), 3)
 
 
 def _pose_errors(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:
@@ -176,6 +230,7 @@ def _pose_errors(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -
             empty = errors.size == 0
             team[f"{name}_mean_{unit}"] = None if empty else round(float(np.mean(errors)), 4)
             team[f"{name}_p95_{unit}"] = None if empty else round(float(np.percentile(errors, 95)), 4)
+        team["lost_share"] = None if position.size == 0 else round(float(np.mean(position > LOST_M)), 4)
 
 
 class TeamRadio:

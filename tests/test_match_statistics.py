@@ -143,3 +143,21 @@ def test_team_radio_counts_packets_drops_and_inboxes() -> None:
                         "away_0": {"radio": {"dropped": 0, "count": 0}}})
     assert radio.to_json() == {"home": {"sent": 1, "dropped": 1, "received": 1},
                                "away": {"sent": 0, "dropped": 0, "received": 0}}
+
+
+def test_lost_share_stillness_and_restarts(statistics: dict) -> None:
+    home, away = statistics["home"], statistics["away"]
+    assert home["lost_share"] == pytest.approx(1 / 9, abs=1e-4)  # the one estimate 1 m off (0.5 m is not lost)
+    assert away["lost_share"] is None
+    # nobody moves: the longest stretch of play without a stop is rows 1-6 (1 s to 6 s)
+    assert home["longest_still_s"] == pytest.approx(5.0) and away["longest_still_s"] == pytest.approx(5.0)
+    assert statistics["restart_max_s"] == pytest.approx(1.0)  # the kick-off at 1 s, the first touch at 2 s
+
+
+def test_a_robot_that_moves_is_not_still() -> None:
+    log = hand_built_log()
+    log["robots"] = log["robots"].copy()
+    log["robots"][:, 0, 0] = np.arange(len(ROWS)) * 0.2  # home_0 walks 0.2 m every row
+    statistics = match_statistics(EVENTS, log, SUMMARY)
+    assert statistics["home"]["longest_still_s"] == pytest.approx(0.0)
+    assert statistics["away"]["longest_still_s"] == pytest.approx(5.0)
