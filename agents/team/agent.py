@@ -38,6 +38,7 @@ from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
 from agents.team.messages import DecodeStats, Intention, Role, TeamMessage, decode
+from agents.team.report import landmarks_seen
 from agents.vision.ball import ball_in_mask, plausible
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
@@ -45,6 +46,7 @@ from agents.vision.pipeline import VisionPipeline
 from agents.vision.robots import find_robots
 from match.protocol import (
     AgentId,
+    AgentReport,
     CameraChoice,
     Displacement,
     GameState,
@@ -118,6 +120,8 @@ class TeamAgent:
         self._own_goal_ahead_s = -math.inf
         self._was_fallen = False
         self._acceleration_z = 9.81
+        self._seen: tuple[int, frozenset[int]] = (-1, frozenset())  # (step, landmark indices) of the last frame
+        self._believed_balls: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
         self._time_to_ball_s = math.inf
 
     @property
@@ -179,7 +183,8 @@ class TeamAgent:
     def _see(self, obs: Observation) -> None:
         frame = CameraFrame.from_observation(obs)
         result = self.pipeline.process(frame)
-        self._seen = (self.step, result.percepts)  # the last frame's landmarks, for report()
+        if self.locator.pose is not None:  # the last frame's landmarks, for report()
+            self._seen = (self.step, landmarks_seen(result.percepts, self.locator.pose))
         self.locator.update(result.percepts)
         own_goal = obs.game.defended_goal
         for percept in result.percepts:
@@ -262,7 +267,9 @@ class TeamAgent:
         if ball_rel is not None:
             own = self.ball.in_field((pose.x, pose.y, pose.theta), self.locator.sigma_m, self.locator.sigma_rad)
         best = self.team.team_ball(own, self.now_s)
-        return None if best is None else best[0]
+        team = None if best is None else best[0]
+        self._believed_balls = (None if own is None else (own.x, own.y), None if team is None else (team.x, team.y))
+        return team
 
     def _assign_role(self, pose: Pose2D, ball: BallEstimate | None, obs: Observation) -> Role:
         own_time = math.inf if ball is None else time_to_ball(pose, (ball.x, ball.y), obs.fallen)
@@ -382,27 +389,18 @@ class TeamAgent:
             time_to_ball_s=self._time_to_ball_s,
         )
 
-    def report(self):
+    def report(self) -> AgentReport | None:
         """What it believes beside its pose, for the match log (``match.protocol.AgentReporter``): its own
-        ball and the team ball (field frame, as ``_decide`` uses them), its role, and the landmarks of its
-        last camera frame if that frame is at most one camera period old. None before it has a pose."""
-        from agents.team.report import landmarks_seen  # imported here to keep this method self-contained
-        from match.protocol import AgentReport
-
-        pose = self.locator.pose
-        if pose is None:
+        ball and the team ball (field frame) as its last decision used them, its role, and the landmarks
+        of its last camera frame if that frame is at most one camera period old. None before it has a pose."""
+        if self.locator.pose is None:
             return None
-        ball_rel = self._own_ball()
-        own = None if ball_rel is None else self.ball.in_field((pose.x, pose.y, pose.theta), self.locator.sigma_m,
-                                                                self.locator.sigma_rad)
-        team = self._team_ball(pose, ball_rel)
-        seen_step, percepts = getattr(self, "_seen", (-1, ()))
-        recent = 0 <= self.step - seen_step <= CAMERA_EVERY_STEPS
+        seen_step, seen = self._seen
         return AgentReport(
-            ball_xy=None if own is None else (own.x, own.y),
-            team_ball_xy=None if team is None else (team.x, team.y),
+            ball_xy=self._believed_balls[0],
+            team_ball_xy=self._believed_balls[1],
             role=None if self.role is Role.NONE else self.role.name.lower(),
-            landmarks_seen=landmarks_seen(percepts, pose) if recent else frozenset(),
+            landmarks_seen=seen if 0 <= self.step - seen_step <= CAMERA_EVERY_STEPS else frozenset(),
         )
 
 
