@@ -8,7 +8,8 @@ import pytest
 
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate, BallModel
-from agents.modelling.self_locator import SelfLocator
+from agents.localization.estimate import EstimateSource, PoseEstimate
+from agents.modelling.self_locator import JUMP_CONFIRMATIONS, SelfLocator
 from agents.modelling.team_model import MESSAGE_TIMEOUT_S, TeamModel
 from agents.team.agent import _arc
 from agents.team.messages import Role, TeamMessage
@@ -105,3 +106,48 @@ def test_role_positions_stay_on_the_own_side_of_the_ball(attack: float) -> None:
     assert defender.x * attack < ball[0] * attack and supporter.x * attack < ball[0] * attack
     for pose in (keeper, defender, supporter):
         assert abs(pose.x) <= 3.0 and abs(pose.y) <= 2.0
+
+
+class _FixedLocalizer:
+    """A localizer stand-in whose every fix is ``fix`` (and which counts its resets)."""
+
+    name = "fixed"
+
+    def __init__(self, fix: Pose2D) -> None:
+        self.fix, self.pose, self.resets, self.widened = fix, None, 0, 0
+
+    def reset(self, pose: Pose2D) -> None:
+        self.pose, self.resets = pose, self.resets + 1
+
+    def move(self, displacement: Displacement) -> None:
+        pass
+
+    def widen(self, sigma_m: float, sigma_rad: float) -> None:
+        self.widened += 1
+
+    def localize(self, percepts):
+        return PoseEstimate(self.fix.x, self.fix.y, self.fix.theta, "fixed", EstimateSource.LANDMARKS)
+
+
+def test_a_far_fix_is_believed_only_when_several_agree() -> None:
+    locator = SelfLocator("odometry", 0)
+    mirrored = Pose2D(1.0, -0.5, math.pi)
+    locator.localizer = stand_in = _FixedLocalizer(mirrored)
+    locator.reset(Pose2D(-1.0, 0.5, 0.0))
+    percepts = ("a percept",)  # the stand-in does not read them
+    for _ in range(JUMP_CONFIRMATIONS - 1):
+        assert locator.update(percepts) is None
+        assert locator.pose == Pose2D(-1.0, 0.5, 0.0)
+    assert stand_in.resets == JUMP_CONFIRMATIONS  # put back on the tracked pose after each rejection
+    assert locator.update(percepts) is not None
+    assert locator.pose == mirrored and locator.rejected_fixes == JUMP_CONFIRMATIONS - 1
+
+
+def test_after_a_fall_a_fix_may_turn_the_heading_at_once() -> None:
+    locator = SelfLocator("odometry", 0)
+    turned = Pose2D(-1.1, 0.5, math.radians(80.0))
+    locator.localizer = stand_in = _FixedLocalizer(turned)
+    locator.reset(Pose2D(-1.0, 0.5, 0.0))
+    locator.fell(0.2, math.radians(60.0))
+    assert stand_in.widened == 1
+    assert locator.update(("a percept",)) is not None and locator.pose == turned

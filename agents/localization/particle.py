@@ -195,6 +195,15 @@ class ParticleLocalizer:
         self._lost = False
         self._w_slow = self._w_fast = None
 
+    def widen(self, sigma_m: float, sigma_rad: float) -> None:
+        """Spread the particles by a normal of ``sigma_m`` (m, each axis) and ``sigma_rad`` (heading):
+        the robot fell or was pushed, and may be off by that much. The estimate stays until the next scan."""
+        n = self.config.particles
+        self.x = self.x + self.rng.normal(0.0, sigma_m, n)
+        self.y = self.y + self.rng.normal(0.0, sigma_m, n)
+        self.th = wrap(self.th + self.rng.normal(0.0, sigma_rad, n))
+        self._clip_to_carpet()
+
     def move(self, displacement: Displacement) -> None:
         d = checked_displacement(displacement)
         m, n = self.config.motion, self.config.particles

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -52,6 +53,13 @@ GATE_RAD = math.radians(35.0)
 JUMP_CONFIRMATIONS = 4  # ... believed when this many fixes in a row agree on it ...
 AGREE_M = 0.4  # ... within these of the last one
 AGREE_RAD = math.radians(30.0)
+
+
+@runtime_checkable
+class Widenable(Protocol):
+    """A localizer whose belief can be made less certain in place (the particle filters)."""
+
+    def widen(self, sigma_m: float, sigma_rad: float) -> None: ...
 
 
 class SelfLocator:
@@ -98,6 +106,15 @@ class SelfLocator:
         pending = self._pending
         if math.hypot(pending.forward_m, pending.left_m) >= FLUSH_TRAVEL_M or abs(pending.turn_rad) >= FLUSH_TURN_RAD:
             self._flush()
+
+    def fell(self, sigma_m: float, sigma_rad: float) -> None:
+        """The robot fell: it may have slid and turned (m, rad of added uncertainty). The localizer's
+        belief is widened as much, and so is the gate, so that the next fixes can set the heading right."""
+        self._flush()
+        self.sigma_m = min(MAX_SIGMA_M, self.sigma_m + sigma_m)
+        self.sigma_rad = min(MAX_SIGMA_RAD, self.sigma_rad + sigma_rad)
+        if isinstance(self.localizer, Widenable):
+            self.localizer.widen(sigma_m, sigma_rad)
 
     def update(self, percepts: Sequence[LandmarkPercept]) -> PoseEstimate | None:
         """The landmarks of one frame; returns the localizer's estimate when they fixed the pose."""

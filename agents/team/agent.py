@@ -77,7 +77,7 @@ PLACED_FAR_M = 0.6  # in SET, farther than this from the kick-off pose: the refe
 UPRIGHT_ACCELERATION_MPS2 = 8.0  # torso z reads g cos(tilt): below this (low-passed) the robot is falling
 UPRIGHT_SMOOTHING = 0.2  # the low-pass weight of a new reading: walking shakes single readings to 6-14 m/s^2
 FALL_SIGMA_M = 0.2  # a fall adds this much position uncertainty ...
-FALL_SIGMA_RAD = math.radians(30.0)  # ... and this much heading uncertainty
+FALL_SIGMA_RAD = math.radians(60.0)  # ... and this much heading uncertainty (a fall turns the body by up to 90 degrees)
 KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within this (pose estimate)
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
@@ -168,8 +168,7 @@ class TeamAgent:
         self.obstacles.predict(moved, DT_S)
         self.obstacles.hear_sonar(obs.sonar_m)
         if obs.fallen and not self._was_fallen:
-            self.locator.sigma_m += FALL_SIGMA_M
-            self.locator.sigma_rad += FALL_SIGMA_RAD
+            self.locator.fell(FALL_SIGMA_M, FALL_SIGMA_RAD)
         self._was_fallen = obs.fallen
 
     def _listen(self, obs: Observation) -> None:
