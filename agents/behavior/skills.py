@@ -67,6 +67,7 @@ MIN_APPROACH_MPS = 0.05
 ALIGN_WITHIN_M = 0.4  # nearer than this, side-step to put the ball in front of a foot
 ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
 FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
+FOOT_BAND_M = (0.025, 0.085)  # |lateral offset| of a ball in front of a foot (m)
 KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.12-0.17 m ahead, 0.03-0.08 m to the side
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
 ORBIT_RADPS = 0.5
@@ -136,15 +137,20 @@ def kick_for(ball: RelativeBall) -> Motion:
     return Motion.KICK_LEFT if ball.left_m > 0.0 else Motion.KICK_RIGHT
 
 
-def chase(ball: RelativeBall, heading_error_rad: float) -> tuple[Motion, tuple[float, float, float]]:
+def chase(ball: RelativeBall, heading_error_rad: float, foot_first: bool = False) -> tuple[Motion, tuple[float, float, float]]:
     """Field player with the ball in sight: turn to it, walk to it, kick it toward the goal.
 
     ``heading_error_rad``: attacked direction minus estimated heading, normalized.
+    ``foot_first``: at kicking distance, first side-step until the ball lies before a foot
+    (:data:`FOOT_BAND_M`), where the kick is strong; a ball between the feet is kicked weakly.
     """
     if abs(ball.bearing_rad) > TURN_IN_PLACE_RAD:
         return Motion.WALK, turn_toward(ball.bearing_rad)
     if ball.distance_m >= KICK_DISTANCE_M:
         return Motion.WALK, approach(ball)
+    if foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]:
+        foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
+        return Motion.WALK, walk_command(0.0, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
     if abs(heading_error_rad) <= KICK_HEADING_TOLERANCE_RAD:
         return kick_for(ball), STILL
     return Motion.WALK, orbit(ball, heading_error_rad)

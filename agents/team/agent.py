@@ -82,9 +82,12 @@ KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within thi
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
 CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
-SHOOTING_RANGE_M = 4.5  # a kick rolls about 4 m: nearer the goal than this, kick only when the kick's line passes between the posts ...
+SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only when the kick's line passes between the posts ...
 POST_MARGIN_M = 0.15  # ... this far inside them
-SIDELINE_MARGIN_M = 0.35  # nearer the side line than this, kick only facing into the field
+FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
+FOLLOW_KICK_MPS = 0.15
+KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
+SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
 
 
 class TeamAgent:
@@ -120,6 +123,7 @@ class TeamAgent:
         self._own_goal_ahead_s = -math.inf
         self._was_fallen = False
         self._acceleration_z = 9.81
+        self._kicked_s = -math.inf  # when it last kicked (s)
         self._seen: tuple[int, frozenset[int]] = (-1, frozenset())  # (step, landmark indices) of the last frame
         self._believed_balls: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
         self._time_to_ball_s = math.inf
@@ -244,6 +248,7 @@ class TeamAgent:
             self.intention = Intention.NONE
             return Motion.STAND, skills.STILL, head
         if obs.motion is not None and obs.motion.is_kick:
+            self._kicked_s = self.now_s
             return obs.motion, skills.STILL, head
         attack = 1.0 if obs.game.defended_goal is GoalColor.BLUE else -1.0
         self.role = self._shootout_role(obs) if _shootout(obs) else self._assign_role(pose, ball_field, obs)
@@ -295,6 +300,8 @@ class TeamAgent:
         if ball_rel is None:
             if ball_field is None:
                 self.intention = Intention.SEARCH
+                if self._just_kicked():  # follow the kick before turning round to search
+                    return Motion.WALK, skills.walk_command(FOLLOW_KICK_MPS, 0.0, 0.0), head
                 return Motion.WALK, skills.walk_command(0.0, 0.0, skills.SEARCH_TURN_RADPS), head
             # A teammate's ball: walk toward it.
             self.intention = Intention.GO_TO_BALL
@@ -308,13 +315,16 @@ class TeamAgent:
             motion, walk = skills.walk_to(pose, waypoint)
             return motion, walk, head
         heading_error = math.remainder(math.atan2(-ball_xy[1], goal_x - ball_xy[0]) - pose.theta, math.tau)
-        motion, walk = skills.chase(ball_rel, heading_error)
+        motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick:
             if not self._may_kick(pose, ball_xy, goal_x, heading_error):
                 motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
             else:
                 self.intention = Intention.KICK
         return motion, walk, head
+
+    def _just_kicked(self) -> bool:
+        return self.now_s - self._kicked_s < FOLLOW_KICK_S
 
     def _contesting(self) -> bool:
         """The striker near its ball goes for it, whoever stands there."""
@@ -323,15 +333,18 @@ class TeamAgent:
 
     def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float) -> bool:
         """Facing the opponent goal by the pose (within its posts when in shooting range: the kick
-        goes where the robot faces), not the own goal by the eyes, not out over a side line."""
+        goes where the robot faces), not the own goal by the eyes, not out over a side line within
+        a kick's roll."""
+        on_target = _on_target(pose.theta, ball_xy, goal_x)
         if math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M:
-            if not _on_target(pose.theta, ball_xy, goal_x):
+            if not on_target:
                 return False
         elif abs(heading_error) > KICK_ALIGN_RAD:
             return False
         if self.now_s - self._own_goal_ahead_s < OWN_GOAL_MEMORY_S:
             return False
-        if abs(pose.y) > FIELD.half_width - SIDELINE_MARGIN_M and math.sin(pose.theta) * pose.y > 0:
+        roll_y = ball_xy[1] + math.sin(pose.theta) * KICK_ROLL_M
+        if not on_target and abs(roll_y) > FIELD.half_width - SIDELINE_MARGIN_M and roll_y * math.sin(pose.theta) > 0:
             return False
         return True
 
@@ -348,6 +361,9 @@ class TeamAgent:
             elif ball_rel.distance_m > skills.TOP_CAMERA_BEYOND_M:
                 self._camera = CameraPosition.TOP
             return skills.look_at(ball_rel, self._camera)
+        if self._just_kicked():  # the ball rolled off ahead
+            self._camera = CameraPosition.TOP
+            return 0.0, skills.SCAN_PITCH_RAD
         yaw = self._sweep.advance(skills.SEARCH_SCAN_RATE_RADPS)
         if self._sweep.reversals % 2 == 1:
             self._camera = CameraPosition.BOTTOM
