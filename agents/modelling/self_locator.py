@@ -11,8 +11,9 @@ A fix far from the pose the robot tracks (farther than :data:`GATE_M` or :data:`
 or three sigmas) is not believed at once: a playing robot sees few landmarks at a time, and
 a few symmetric ones (the centre circle, one goal's posts from close by) fit a mirrored pose
 as well as the true one. Such a fix is believed when :data:`JUMP_CONFIRMATIONS` fixes in a
-row agree on it (the robot really was moved); until then the localizer is put back on the
-tracked pose.
+row agree on it (the robot really was moved: the localizer, left to itself, keeps finding
+it); meanwhile the pose's sigma is raised to at least :data:`DOUBT_SIGMA_M`, so that the
+robot looks for landmarks.
 """
 
 from __future__ import annotations
@@ -50,9 +51,10 @@ MAX_SIGMA_M = 5.0
 MAX_SIGMA_RAD = math.pi
 GATE_M = 0.5  # a fix farther than this (or 3 sigma) from the tracked pose is a candidate jump ...
 GATE_RAD = math.radians(35.0)
-JUMP_CONFIRMATIONS = 4  # ... believed when this many fixes in a row agree on it ...
+JUMP_CONFIRMATIONS = 6  # ... believed when this many fixes in a row agree on it ...
 AGREE_M = 0.4  # ... within these of the last one
 AGREE_RAD = math.radians(30.0)
+DOUBT_SIGMA_M = 0.3  # a rejected far fix raises the position sigma to this
 
 
 @runtime_checkable
@@ -126,7 +128,7 @@ class SelfLocator:
             return None
         if not self._believe(estimate.pose):
             self.rejected_fixes += 1
-            self.localizer.reset(self._tracked)
+            self.sigma_m = max(self.sigma_m, DOUBT_SIGMA_M)
             return None
         self._tracked = estimate.pose
         self.last_fix = estimate

@@ -124,6 +124,7 @@ class TeamAgent:
         self._was_fallen = False
         self._acceleration_z = 9.81
         self._kicked_s = -math.inf  # when it last kicked (s)
+        self._fall_sequence = 0  # the finished-motion count when it last went down
         self._seen: tuple[int, frozenset[int]] = (-1, frozenset())  # (step, landmark indices) of the last frame
         self._believed_balls: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
         self._time_to_ball_s = math.inf
@@ -173,6 +174,7 @@ class TeamAgent:
         self.obstacles.hear_sonar(obs.sonar_m)
         if obs.fallen and not self._was_fallen:
             self.locator.fell(FALL_SIGMA_M, FALL_SIGMA_RAD)
+            self._fall_sequence = obs.last_motion_sequence
         self._was_fallen = obs.fallen
 
     def _listen(self, obs: Observation) -> None:
@@ -232,7 +234,7 @@ class TeamAgent:
             return obs.motion, skills.STILL, (0.0, 0.0)
         if obs.fallen:
             self.intention = Intention.RECOVER
-            return skills.stand_up_for(obs.accelerometer_mps2[0]), skills.STILL, (0.0, 0.0)
+            return self._stand_up(obs), skills.STILL, (0.0, 0.0)
         pose = self.locator.pose
         assert pose is not None  # reset in _follow_game
         ball_rel = self._own_ball()
@@ -322,6 +324,14 @@ class TeamAgent:
             else:
                 self.intention = Intention.KICK
         return motion, walk, head
+
+    def _stand_up(self, obs: Observation) -> Motion:
+        """The stand-up for the side it lies on (the accelerometer); lying on a flank the reading is
+        unsure, so when a stand-up tried in this fall left it down, the other one."""
+        last = obs.last_motion
+        if last is not None and last.is_stand_up and obs.last_motion_sequence > self._fall_sequence:
+            return Motion.STAND_UP_FROM_FRONT if last is Motion.STAND_UP_FROM_BACK else Motion.STAND_UP_FROM_BACK
+        return skills.stand_up_for(obs.accelerometer_mps2[0])
 
     def _just_kicked(self) -> bool:
         return self.now_s - self._kicked_s < FOLLOW_KICK_S
