@@ -15,26 +15,31 @@ from scenarios.cli.arguments import (
     batch_options,
     localizer_names,
     name_list,
+    positive_float,
     positive_int,
 )
 
 NAME = "scenario"
 HELP = "thesis chapter 6: run scenarios 1-3 (or a scenario file) and write their localization statistics"
 DESCRIPTION = (
-    "Run a scenario's independent runs (built-in 1, 2, 3, 'all', or a path to a TOML scenario "
+    "Run a scenario's independent runs (built-in 1, 2, 3, 3-match, 'all', or a path to a TOML scenario "
     "file) and write results.csv, summary.json, table.md (thesis Tables 6.1/6.2 with the thesis' values), "
     "errors.png (thesis figure 6.15) and traces.png into --out. Every method of the scenario localizes on the "
-    "same percepts and motions. Finished runs are kept in --out/runs; --resume continues an interrupted batch."
+    "same percepts and motions; 3-match measures team agents while they play a refereed game, every second "
+    "of PLAYING time. Finished runs are kept in --out/runs; --resume continues an interrupted batch."
 )
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("scenarios", nargs="+", metavar="SCENARIO", help="1, 2, 3, all, or a scenario file")
+    parser.add_argument("scenarios", nargs="+", metavar="SCENARIO", help="1, 2, 3, 3-match, all, or a scenario file")
     parser.add_argument("--samples", type=positive_int, default=None, metavar="N",
-                        help="localization events per method (default: the scenario file's)")
+                        help="localization events per method (default: the scenario file's; not used by 3-match, "
+                             "whose runs last a match: see --half-seconds)")
     parser.add_argument("--seed", type=int, default=None, help="seed of the runs (default: the scenario file's)")
     parser.add_argument("--methods", type=name_list(localizer_names), default=None, metavar="M1,M2",
                         help="localization methods, comma-separated (default: the scenario file's)")
+    parser.add_argument("--half-seconds", type=positive_float, default=None, metavar="S",
+                        help="length of a half of the refereed scenarios, seconds (default: the scenario file's)")
     add_batch_arguments(parser, "runs")
     add_out_dir(parser, Path("out/scenarios"))
     add_no_progress(parser)
@@ -48,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     options = batch_options(args)
     try:
         reports = run_named(args.scenarios, args.out, options, samples=args.samples, seed=args.seed,
-                            methods=args.methods)
+                            methods=args.methods, half_seconds=args.half_seconds)
     except KeyboardInterrupt:
         print(f"robotstadium scenario: interrupted; finished runs are kept in {args.out}: "
               "run again with --resume to continue", file=sys.stderr)

@@ -22,7 +22,7 @@ from tqdm import tqdm
 from match.runner import package_versions
 from scenarios.common.batch import BACKENDS, BatchError, BatchOptions, ResultStore, default_workers, execute
 from scenarios.localization.figures import plot_errors, plot_traces
-from scenarios.localization.file import BUILTIN_SCENARIOS, load_scenario
+from scenarios.localization.file import NAMED_SCENARIOS, load_scenario
 from scenarios.localization.run import RunOutcome, run_tasks, simulate_run
 from scenarios.localization.samples import LocalizationSample
 from scenarios.localization.spec import ScenarioSpec
@@ -55,7 +55,7 @@ def run_scenario(spec: ScenarioSpec, key: str, out_dir: Path, options: BatchOpti
     pending = [t for t in tasks if t.run not in done]
     if done:
         log.info("%s: %d of %d runs already in %s", spec.name, len(done), len(tasks), out_dir)
-    bar = tqdm(total=spec.samples, initial=sum(o.events for o in done.values()),
+    bar = tqdm(total=spec.expected_samples(), initial=sum(o.events for o in done.values()),
                unit="sample", desc=spec.name, disable=not options.progress, dynamic_ncols=True)
     failures = []
     try:
@@ -123,29 +123,40 @@ ALL = "all"
 
 def scenario_key(name_or_path: str) -> str:
     """The short name of a scenario in tables and directory names: "1" for a built-in, else the file stem."""
-    return name_or_path if name_or_path in BUILTIN_SCENARIOS else Path(name_or_path).stem
+    return name_or_path if name_or_path in NAMED_SCENARIOS else Path(name_or_path).stem
 
 
 def with_overrides(spec: ScenarioSpec, samples: int | None = None, seed: int | None = None,
-                   methods: Sequence[str] | None = None) -> ScenarioSpec:
-    """``spec`` with the command line's samples, seed and methods where given (runs capped at samples)."""
+                   methods: Sequence[str] | None = None, half_seconds: float | None = None) -> ScenarioSpec:
+    """``spec`` with the command line's samples, seed, methods and half length (s) where given (runs
+    capped at samples). A scenario with periodic sampling keeps its samples and methods: its runs
+    last a match (``half_seconds`` sets its length) and its robots localize their own way."""
     changes: dict = {}
-    if samples is not None:
+    if samples is not None and spec.periodic:
+        log.warning("%s: its runs last a match (set its length with half_seconds); samples = %d not used",
+                    spec.name, samples)
+    elif samples is not None:
         changes.update(samples=samples, runs=min(spec.runs, samples))
     if seed is not None:
         changes["seed"] = seed
-    if methods is not None:
+    if methods is not None and spec.periodic:
+        log.warning("%s: its measured robots localize with their own policies; methods %s not used",
+                    spec.name, ", ".join(methods))
+    elif methods is not None:
         changes["methods"] = tuple(methods)
+    if half_seconds is not None:
+        changes["half_seconds"] = float(half_seconds)
     return dataclasses.replace(spec, **changes)
 
 
 def run_named(names: Sequence[str], out_dir: Path, options: BatchOptions, **overrides) -> list[ScenarioReport]:
-    """Run the scenarios named (built-in names, paths, or "all"); every file is checked before any runs.
+    """Run the scenarios named (built-in names, paths, or "all": 1, 2, 3 and 3-match); every file is
+    checked before any runs.
 
     One scenario writes into ``out_dir``; several write into ``out_dir/scenario_<key>`` each,
     and the combined table and figure into ``out_dir``.
     """
-    expanded = [n for name in names for n in (BUILTIN_SCENARIOS if name == ALL else (name,))]
+    expanded = [n for name in names for n in (NAMED_SCENARIOS if name == ALL else (name,))]
     specs = [(scenario_key(n), with_overrides(load_scenario(n), **overrides)) for n in expanded]
     keys = [k for k, _ in specs]
     if len(set(keys)) != len(keys):

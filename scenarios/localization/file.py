@@ -2,14 +2,18 @@
 
 A scenario file names the robots, which of them are measured, the localization methods
 and how many samples to take. ``scenario_1.toml`` .. ``scenario_3.toml`` in the
-:mod:`scenarios` package are the built-in scenarios and, commented, the format's documentation.
-:func:`load_scenario` reads a built-in name or a path; :func:`parse_scenario` validates
-already-parsed data. Every mistake is a :class:`ScenarioFileError` naming the file, the
-key, what was expected and what was found; unknown keys are mistakes too.
+:mod:`scenarios` package are the built-in scenarios and, commented, the format's documentation;
+``scenario_3_match.toml`` (name ``3-match``) is scenario 3 in its literal sense, team agents
+measured while they play a refereed game, sampled every second of PLAYING time (its
+``[sampling]`` table). :func:`load_scenario` reads a built-in name or a path;
+:func:`parse_scenario` validates already-parsed data. Every mistake is a
+:class:`ScenarioFileError` naming the file, the key, what was expected and what was found;
+unknown keys are mistakes too.
 """
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import tomllib
@@ -25,7 +29,9 @@ from world.field import FIELD, Pose2D
 
 log = logging.getLogger(__name__)
 
-BUILTIN_SCENARIOS: tuple[str, ...] = ("1", "2", "3")
+BUILTIN_SCENARIOS: tuple[str, ...] = ("1", "2", "3")  # the thesis' scenarios as the thesis ran them
+PLAYING_SCENARIOS: tuple[str, ...] = ("3-match",)  # measured while they play (periodic sampling)
+NAMED_SCENARIOS: tuple[str, ...] = BUILTIN_SCENARIOS + PLAYING_SCENARIOS  # every name load_scenario knows
 
 _TOP_KEYS = (
     "name",
@@ -40,11 +46,14 @@ _TOP_KEYS = (
     "noise",
     "limits",
     "thesis",
+    "sampling",
     "robots",
 )
 _MATCH_KEYS = ("half_seconds",)
 _NOISE_KEYS = ("motion_scale",)
 _LIMITS_KEYS = ("max_sim_seconds_per_run", "warmup_seconds")
+_SAMPLING_KEYS = ("period_seconds",)
+_EVENT_ONLY_KEYS = ("methods", "camera_model")  # they configure the scan-localize robots' side-by-side methods
 _THESIS_KEYS = ("position_mean_cm", "position_ci95_cm", "orientation_mean_deg", "orientation_ci95_deg")
 _ROBOT_KEYS = ("id", "policy", "measured", "start")
 _SEED_LIMIT = 2**63
@@ -76,19 +85,20 @@ _MISSING = _Missing()
 
 
 def builtin_path(name: str) -> Path:
-    """The file of the built-in scenario ``name`` (one of :data:`BUILTIN_SCENARIOS`)."""
-    if name not in BUILTIN_SCENARIOS:
-        raise ValueError(f"built-in scenario {name!r} is not one of {', '.join(BUILTIN_SCENARIOS)}")
-    return Path(__file__).parents[1] / f"scenario_{name}.toml"  # package data of scenarios
+    """The file of the built-in scenario ``name`` (one of :data:`NAMED_SCENARIOS`): ``scenario_1.toml``,
+    ..., ``scenario_3_match.toml`` for ``3-match``."""
+    if name not in NAMED_SCENARIOS:
+        raise ValueError(f"built-in scenario {name!r} is not one of {', '.join(NAMED_SCENARIOS)}")
+    return Path(__file__).parents[1] / f"scenario_{name.replace('-', '_')}.toml"  # package data of scenarios
 
 
 def load_scenario(name_or_path: str | Path) -> ScenarioSpec:
-    """The scenario of a built-in name (``"1"``, ``"2"``, ``"3"``) or of a TOML file's path."""
-    if isinstance(name_or_path, str) and name_or_path in BUILTIN_SCENARIOS:
+    """The scenario of a built-in name (``"1"``, ``"2"``, ``"3"``, ``"3-match"``) or of a TOML file's path."""
+    if isinstance(name_or_path, str) and name_or_path in NAMED_SCENARIOS:
         path = builtin_path(name_or_path)
     else:
         path = Path(name_or_path)
-    expected_file = f"an existing scenario file or one of {', '.join(BUILTIN_SCENARIOS)}"
+    expected_file = f"an existing scenario file or one of {', '.join(NAMED_SCENARIOS)}"
     if not path.is_file():
         raise ScenarioFileError(path, "<file>", expected_file, str(name_or_path))
     try:
@@ -126,8 +136,16 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
     samples = top.integer("samples", low=1)
     runs = top.integer("runs", default=1, low=1, high=samples, high_text="samples")
     seed = top.integer("seed", default=0, low=0, high=_SEED_LIMIT - 1)
-    methods = _methods(top)
-    camera_model = top.string("camera_model", default="exact", choices=tuple(CAMERA_MODELS))
+    period = _sample_period(top)
+    if period is None:
+        methods = _methods(top)
+        camera_model = top.string("camera_model", default="exact", choices=tuple(CAMERA_MODELS))
+    else:
+        for key in _EVENT_ONLY_KEYS:
+            if top.has(key):
+                top.fail(key, "no methods or camera_model with [sampling]: each measured robot's policy localizes "
+                         "its own way", top.get(key))
+        methods, camera_model = (), "exact"
     referee = top.boolean("referee", default=False)
     half_seconds = top.table("match", _MATCH_KEYS).number("half_seconds", default=600.0, positive=True)
     motion_scale = top.table("noise", _NOISE_KEYS).number("motion_scale", default=1.0)
@@ -137,7 +155,7 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
     if warmup >= limit:
         limits.fail("warmup_seconds", f"a number of seconds below max_sim_seconds_per_run ({limit:g})", warmup)
     thesis = _thesis(top)
-    robots = _robots(top, referee)
+    robots = _robots(top, referee, periodic=period is not None)
     return ScenarioSpec(
         name,
         description,
@@ -153,6 +171,7 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
         limit,
         thesis,
         warmup,
+        period,
     )
 
 
@@ -242,6 +261,13 @@ def _methods(top: _Table) -> tuple[str, ...]:
     return tuple(value)
 
 
+def _sample_period(top: _Table) -> float | None:
+    """``[sampling] period_seconds``: seconds of PLAYING time between samples (> 0); None without ``[sampling]``."""
+    if not top.has("sampling"):
+        return None
+    return top.table("sampling", _SAMPLING_KEYS).number("period_seconds", positive=True)
+
+
 def _thesis(top: _Table) -> ThesisReference | None:
     """The optional ``[thesis]`` row: all four figures, numbers >= 0."""
     if not top.has("thesis"):
@@ -250,14 +276,14 @@ def _thesis(top: _Table) -> ThesisReference | None:
     return ThesisReference(*(table.number(key) for key in _THESIS_KEYS))
 
 
-def _robots(top: _Table, referee: bool) -> tuple[RobotEntry, ...]:
+def _robots(top: _Table, referee: bool, periodic: bool) -> tuple[RobotEntry, ...]:
     """``[[robots]]`` in file order, each checked, then the checks across robots."""
     value = top.get("robots")
     if not isinstance(value, list) or not value or not all(isinstance(r, dict) for r in value):
         top.fail("robots", "a non-empty array of tables [[robots]]", value)
     robots: list[RobotEntry] = []
     for i, data in enumerate(value):
-        robot = _robot(_Table(data, f"robots[{i}].", top.path, "[[robots]]", _ROBOT_KEYS), referee)
+        robot = _robot(_Table(data, f"robots[{i}].", top.path, "[[robots]]", _ROBOT_KEYS), referee, periodic)
         if any(r.id == robot.id for r in robots):
             top.fail(f"robots[{i}].id", "a robot id not listed before", data["id"])
         robots.append(robot)
@@ -269,7 +295,7 @@ def _robots(top: _Table, referee: bool) -> tuple[RobotEntry, ...]:
     return tuple(robots)
 
 
-def _robot(table: _Table, referee: bool) -> RobotEntry:
+def _robot(table: _Table, referee: bool, periodic: bool) -> RobotEntry:
     """One ``[[robots]]`` entry; its id in the canonical ``home_1`` spelling."""
     raw_id = table.get("id")
     try:
@@ -278,11 +304,14 @@ def _robot(table: _Table, referee: bool) -> RobotEntry:
         raise ScenarioFileError(table.path, f"{table.prefix}id", _ID_TEXT, raw_id) from exc
     policy = table.string("policy")
     try:
-        policy_factory(policy)
+        factory = policy_factory(policy)
     except PolicyNameError as error:
         table.fail("policy", f"{known_policies()} [{error}]", policy)
     measured = table.boolean("measured", default=False)
-    if measured and policy not in MEASURABLE_POLICIES:
+    if measured and periodic and not reports_pose(factory):
+        table.fail("measured", "measured = true with [sampling] only with a policy that reports its pose "
+                   "(pose_estimate(), match.protocol.PoseReporter)", measured)
+    if measured and not periodic and policy not in MEASURABLE_POLICIES:
         table.fail("measured", f"measured = true only with policy = {' or '.join(map(repr, MEASURABLE_POLICIES))}",
                    measured)
     start = None
@@ -291,6 +320,19 @@ def _robot(table: _Table, referee: bool) -> RobotEntry:
             table.fail("start", "no start: with the referee robots begin at their kick-off positions", table.get("start"))
         start = _start(table)
     return RobotEntry(str(agent), policy, measured, start)
+
+
+def reports_pose(factory: object) -> bool:
+    """Whether the policies a factory builds report their pose (a ``pose_estimate`` method).
+
+    A class (or a ``functools.partial`` of one) is checked here; any other factory is taken
+    at its word, and the run checks the policy it builds.
+    """
+    while isinstance(factory, functools.partial):
+        factory = factory.func
+    if isinstance(factory, type):
+        return callable(getattr(factory, "pose_estimate", None))
+    return True
 
 
 def _start(table: _Table) -> Pose2D | None:

@@ -5,7 +5,9 @@ the same samples, in whatever process it runs. Measured robots run
 :class:`~agents.behavior.scan_localize.ScanLocalizeAgent` with every method of the
 scenario side by side; after each of their localization events this harness (never the
 agent) reads the true pose from the world, the thesis' GPS, and makes one
-:class:`~scenarios.localization.samples.LocalizationSample` per method.
+:class:`~scenarios.localization.samples.LocalizationSample` per method. A scenario with
+periodic sampling (``sample_period_s``) instead measures robots that play with their own
+policy, every so many seconds of PLAYING time (:mod:`scenarios.localization.periodic`).
 
 Every run is a :class:`~match.game.Match` played by the one game loop,
 :func:`match.runner.run_match`, with a :class:`SampleCollector` watching it. Without a
@@ -33,6 +35,7 @@ from match.game import Match, MatchConfig
 from match.protocol import CameraChoice, Policy
 from match.protocol.ids import AgentId, Side
 from match.runner import run_match
+from scenarios.localization.periodic import PeriodicCollector
 from scenarios.localization.samples import LocalizationSample, RunResult
 from scenarios.localization.spec import RobotEntry, ScenarioSpec
 from world.config import WorldConfig
@@ -60,10 +63,11 @@ class RunTask:
 
 @dataclass(frozen=True)
 class RunOutcome:
-    """The samples of one run (one per method per localization event) and its costs.
+    """The samples of one run (one per method per localization event, or one per periodic
+    sample) and its costs.
 
     ``complete`` is False when the run ended (time limit, end of the match) short of its
-    samples.
+    samples; with periodic sampling a run that played its match to the end is complete.
     """
 
     run: int
@@ -88,7 +92,8 @@ def run_tasks(spec: ScenarioSpec) -> tuple[RunTask, ...]:
 
 
 def simulate_run(task: RunTask, on_sample: SampleCallback | None = None, out_dir: Path | None = None) -> RunOutcome:
-    """Simulate one run until it has ``task.samples`` localization events of measured robots.
+    """Simulate one run until it has ``task.samples`` localization events of measured robots
+    (with periodic sampling: samples, or the match's end).
 
     ``out_dir``: where to write the run's match outputs (``summary.json``, ``events.jsonl``,
     ``match_log.npz`` with every robot's pose estimate beside the truth); None writes nothing.
@@ -107,15 +112,20 @@ def simulate_run(task: RunTask, on_sample: SampleCallback | None = None, out_dir
         free_play = FreePlay(tuple((robot, pose) for robot, pose in starts.items() if pose is not None))
         config = MatchConfig(world=world_config(spec), initial_camera=CameraChoice.OFF, free_play=free_play)
     policies = {r.id: _policy(r, spec, starts[r.id]) for r in spec.robots}
-    collector = SampleCollector(task, policies, on_sample)
+    collector: SampleCollector | PeriodicCollector
+    if spec.periodic:
+        collector = PeriodicCollector(spec, task.run, task.samples, policies, on_sample)
+    else:
+        collector = SampleCollector(task, policies, on_sample)
     match = Match(config)
     try:
         run_match(config, policies, seed=match_seed, out_dir=out_dir, progress=False, match=match, observer=collector,
                   policy_seeds=dict(zip(policies, agent_seeds)))
         sim_seconds = match.world.time_s
+        played_out = spec.periodic and not match.free_play and match.finished
     finally:
         match.close()
-    complete = collector.complete
+    complete = collector.complete or played_out
     outcome = RunOutcome(task.run, task.seed, tuple(collector.samples), sim_seconds, time.perf_counter() - started,
                          complete)
     if not complete:
@@ -132,8 +142,9 @@ def _refereed_config(spec: ScenarioSpec) -> MatchConfig:
 
 
 def _policy(robot: RobotEntry, spec: ScenarioSpec, start: Pose2D | None) -> Policy:
-    """The robot's policy by its name; measured robots get the scenario's localization options."""
-    if robot.measured:
+    """The robot's policy by its name; measured scan-localize robots get the scenario's localization options
+    (with periodic sampling every robot plays its policy as it is)."""
+    if robot.measured and not spec.periodic:
         return make_policy(robot.policy, methods=spec.methods, start=start, camera_model=spec.camera_model)
     return make_policy(robot.policy)
 

@@ -4,6 +4,12 @@ Plain frozen data, built by :func:`scenarios.localization.file.load_scenario` fr
 file and used by the runner (:mod:`scenarios.localization.run`) and the report
 (:mod:`scenarios.localization.statistics`). Units: metres, seconds, radians inside; the file
 gives start headings in degrees (``theta_deg``) and the thesis' figures in cm and degrees.
+
+Two ways of taking samples: at the measured robots' localization events (the thesis'
+move-scan-localize cycle, policies of :data:`MEASURABLE_POLICIES`, every method side by
+side), or periodically (``sample_period_s``): every so many seconds of PLAYING time, the
+pose estimate of each measured robot that is up, from any policy that reports its pose
+(:class:`match.protocol.PoseReporter`), while it plays.
 """
 
 from __future__ import annotations
@@ -12,6 +18,7 @@ import dataclasses
 import enum
 import hashlib
 import json
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,6 +27,7 @@ from world.field import Pose2D
 
 
 MEASURABLE_POLICIES = ("scan_localize",)  # policies that record localization events (``.events``)
+# With periodic sampling any policy that reports its pose (PoseReporter) can be measured.
 
 
 @dataclass(frozen=True)
@@ -59,7 +67,11 @@ class ScenarioSpec:
     still short of its samples after this much simulated time ends with what it has;
     ``warmup_seconds``: localization events in a run's first seconds of simulated time are
     not samples (with the referee, the game has developed by then; the localizers run
-    throughout).
+    throughout); ``sample_period_s``: None, samples at the measured robots' localization
+    events (one per method); a number of seconds, one sample of each measured robot's own
+    pose estimate every ``sample_period_s`` of PLAYING time while it is up, labelled with
+    its policy's name, and a run also ends, complete, with the match (``methods`` and
+    ``camera_model`` are not used then).
     """
 
     name: str
@@ -76,10 +88,24 @@ class ScenarioSpec:
     max_sim_seconds_per_run: float = 1200.0
     thesis: ThesisReference | None = None
     warmup_seconds: float = 0.0
+    sample_period_s: float | None = None
 
     @property
     def measured(self) -> tuple[str, ...]:
         return tuple(r.id for r in self.robots if r.measured)
+
+    @property
+    def periodic(self) -> bool:
+        """Whether samples are taken every ``sample_period_s`` of PLAYING time (else at localization events)."""
+        return self.sample_period_s is not None
+
+    def expected_samples(self) -> int:
+        """Samples a batch of this scenario expects: ``samples``; with periodic sampling at most what
+        its matches give (a sample a period of each half, per measured robot and run)."""
+        if self.sample_period_s is None:
+            return self.samples
+        per_match = len(self.measured) * math.floor(2.0 * self.half_seconds / self.sample_period_s)
+        return min(self.samples, self.runs * per_match)
 
     def run_samples(self) -> tuple[int, ...]:
         """Samples per run: ``samples`` split as evenly as possible, earlier runs taking the rest."""
@@ -92,7 +118,10 @@ class ScenarioSpec:
 
     def fingerprint(self) -> str:
         """A hash of everything that changes the results (for ``--resume``): sha256 hex, 16 digits."""
-        text = json.dumps(dataclasses.asdict(self), sort_keys=True, default=_plain)
+        data = dataclasses.asdict(self)
+        if data["sample_period_s"] is None:  # event sampling: the fingerprint of the scenarios before periodic sampling
+            del data["sample_period_s"]
+        text = json.dumps(data, sort_keys=True, default=_plain)
         return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 

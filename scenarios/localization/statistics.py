@@ -3,6 +3,8 @@
 One implementation for every consumer: the scenario report (:class:`ScenarioReport`,
 written by :mod:`scenarios.localization.tables` and drawn by
 :mod:`scenarios.localization.figures`) and the ``localize`` command (:func:`summarize`).
+Samples taken periodically while the robots play (:mod:`scenarios.localization.periodic`)
+also get :class:`PlayingStatistics`: 95th percentiles and the share of samples "lost".
 Units: position errors in centimetres, orientation errors in degrees.
 """
 
@@ -106,6 +108,63 @@ def summarize(samples: Sequence[LocalizationSample]) -> dict[str, dict[str, floa
     }
 
 
+LOST_M = 0.5  # a position error beyond this (m), or no estimate at all: the robot is lost
+
+
+@dataclass(frozen=True)
+class PlayingStatistics:
+    """One policy's errors over the samples taken while its robots played (periodic sampling).
+
+    ``samples``: all its samples; ``missing``: those without an estimate; ``robots``: the
+    measured robots that gave them. Position in cm, orientation in degrees, over the samples
+    with an estimate: means, 95th percentiles (linear interpolation). ``lost_percent``: the
+    share of all samples, in percent, whose position error is over :data:`LOST_M` or that
+    have no estimate. NaN where there is nothing to take a statistic of.
+    """
+
+    samples: int
+    missing: int
+    robots: int
+    position_mean_cm: float
+    position_p95_cm: float
+    orientation_mean_deg: float
+    orientation_p95_deg: float
+    lost_percent: float
+
+    def to_json(self) -> dict[str, float | int | None]:
+        """The statistics as a JSON-ready dict, NaN as ``None``."""
+        keys = ("samples", "missing", "robots", "position_mean_cm", "position_p95_cm", "orientation_mean_deg",
+                "orientation_p95_deg", "lost_percent")
+        return {key: json_number(getattr(self, key)) for key in keys}
+
+
+def _p95(values: np.ndarray) -> float:
+    return float(np.percentile(values, 95.0)) if values.size else math.nan
+
+
+def _playing(rows: Sequence[LocalizationSample]) -> PlayingStatistics:
+    position_cm = np.array([s.position_error_m for s in rows], dtype=float) * 100.0
+    orientation_deg = np.array([s.orientation_error_deg for s in rows], dtype=float)
+    ok = np.isfinite(position_cm) & np.isfinite(orientation_deg)
+    pos, ori = position_cm[ok], orientation_deg[ok]
+    lost = int((pos > LOST_M * 100.0).sum()) + int((~ok).sum())
+    return PlayingStatistics(
+        samples=len(rows),
+        missing=int((~ok).sum()),
+        robots=len({s.robot for s in rows}),
+        position_mean_cm=mean(pos),
+        position_p95_cm=_p95(pos),
+        orientation_mean_deg=mean(ori),
+        orientation_p95_deg=_p95(ori),
+        lost_percent=100.0 * lost / len(rows) if rows else math.nan,
+    )
+
+
+def playing_statistics(samples: Sequence[LocalizationSample]) -> dict[str, PlayingStatistics]:
+    """Per label (the policy's name, first-appearance order): its :class:`PlayingStatistics`."""
+    return {m: _playing([s for s in samples if s.method == m]) for m in method_order(samples)}
+
+
 @dataclass(frozen=True)
 class Quantity:
     """Position or orientation: which statistics and which thesis fields, the thesis table, the unit."""
@@ -145,3 +204,8 @@ class ScenarioReport:
     @cached_property
     def statistics(self) -> dict[str, MethodStatistics]:
         return method_statistics(self.samples)
+
+    @cached_property
+    def playing(self) -> dict[str, PlayingStatistics]:
+        """Per policy, the statistics of play (empty unless the scenario samples periodically)."""
+        return playing_statistics(self.samples) if self.spec.periodic else {}

@@ -1,6 +1,8 @@
 """The files of a chapter 6 scenario's numbers: results.csv, summary.json and table.md.
 
-Thesis chapter 6: Tables 6.1 (position error, cm) and 6.2 (orientation error, degrees).
+Thesis chapter 6: Tables 6.1 (position error, cm) and 6.2 (orientation error, degrees), and
+for scenarios sampled while the robots play (``3-match``) a third table beside them: 95th
+percentiles and the share of samples lost, with the thesis' scenario figures for comparison.
 Units: the CSV keeps the samples' SI units (metres, radians, seconds) plus
 ``orientation_error_deg``; the JSON and the tables use the statistics' centimetres and
 degrees (:mod:`scenarios.localization.statistics`).
@@ -16,7 +18,7 @@ from pathlib import Path
 
 from scenarios.common.io import json_safe, write_csv, write_json, write_text
 from scenarios.localization.samples import LocalizationSample
-from scenarios.localization.statistics import ORIENTATION, POSITION, Quantity, ScenarioReport
+from scenarios.localization.statistics import LOST_M, ORIENTATION, POSITION, Quantity, ScenarioReport
 
 log = logging.getLogger(__name__)
 
@@ -67,7 +69,7 @@ def write_results_csv(path: Path, report: ScenarioReport) -> Path:
 def scenario_summary(report: ScenarioReport) -> dict:
     """The JSON summary of one scenario (the body of summary.json, one entry of the combined one)."""
     spec = report.spec
-    return json_safe({
+    summary = {
         "scenario": spec.name,
         "key": report.key,
         "description": spec.description,
@@ -82,7 +84,12 @@ def scenario_summary(report: ScenarioReport) -> dict:
         "wall_seconds": float(report.wall_seconds),
         "sim_seconds": float(report.sim_seconds),
         "versions": dict(report.versions),
-    })
+    }
+    if spec.periodic:  # only then: the summaries of event-sampled scenarios stay as they were
+        summary["sample_period_s"] = spec.sample_period_s
+        summary["half_seconds"] = spec.half_seconds
+        summary["playing"] = {name: st.to_json() for name, st in report.playing.items()}
+    return json_safe(summary)
 
 
 def _write_json(path: Path, data: dict) -> Path:
@@ -127,9 +134,36 @@ def _table(reports: Sequence[ScenarioReport], q: Quantity) -> list[str]:
     return lines
 
 
+def _playing_table(reports: Sequence[ScenarioReport]) -> list[str]:
+    """The statistics of the scenarios sampled while playing, with the thesis' means beside them."""
+    lines = [
+        f"**Localization while playing** (a sample every period of PLAYING time of each measured robot "
+        f"that is up; lost: position error over {LOST_M * 100:.0f} cm or no estimate):",
+        "",
+        "| scenario | policy | robots | samples | position mean cm | position p95 cm | orientation mean deg | "
+        "orientation p95 deg | lost % | thesis mean cm | thesis mean deg |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for report in reports:
+        thesis = report.spec.thesis
+        t_pos = _cell(thesis.position_mean_cm if thesis else None)
+        t_ori = _cell(thesis.orientation_mean_deg if thesis else None)
+        for policy, st in report.playing.items():
+            lines.append(
+                f"| {report.key} | {policy} | {st.robots} | {st.samples} | {_cell(st.position_mean_cm)} | "
+                f"{_cell(st.position_p95_cm)} | {_cell(st.orientation_mean_deg)} | {_cell(st.orientation_p95_deg)} | "
+                f"{_cell(st.lost_percent)} | {t_pos} | {t_ori} |"
+            )
+    return lines
+
+
 def table_markdown(reports: Sequence[ScenarioReport]) -> str:
-    """Tables 6.1 (position, cm) and 6.2 (orientation, degrees) of ``reports``, Markdown, one decimal."""
+    """Tables 6.1 (position, cm) and 6.2 (orientation, degrees) of ``reports``, Markdown, one decimal;
+    then, when a scenario was sampled while playing, its table of play."""
     lines = _table(reports, POSITION) + [""] + _table(reports, ORIENTATION)
+    playing = [r for r in reports if r.spec.periodic]
+    if playing:
+        lines += [""] + _playing_table(playing)
     return "\n".join(lines) + "\n"
 
 
@@ -147,6 +181,9 @@ def write_scenario_table(path: Path, report: ScenarioReport) -> Path:
         f"samples requested: {spec.samples}, runs: {spec.runs}, seed: {spec.seed}, "
         f"wall time: {report.wall_seconds:.1f} s, simulated time: {report.sim_seconds:.1f} s\n\n"
     )
+    if spec.periodic:
+        header += (f"sampled every {spec.sample_period_s:g} s of PLAYING time, halves of {spec.half_seconds:g} s; "
+                   "samples requested is a cap\n\n")
     return _write_markdown(path, header + table_markdown([report]))
 
 
