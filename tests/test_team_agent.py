@@ -94,7 +94,7 @@ def test_no_kick_out_over_the_side_line() -> None:
 @pytest.mark.parametrize("x, theta, kicks", [
     (1.0, 0.0, True),  # 2 m out, straight at the goal
     (1.0, 0.45, False),  # 2 m out, the kick's line passes 0.9 m left of the centre: beside the post
-    (-2.0, 0.45, True),  # 5 m out (beyond a kick's roll): moving the ball on within 35 degrees is enough
+    (-2.0, 0.45, True),  # 5 m out: moving the ball on within 35 degrees is enough
     (-2.0, 0.7, False),
 ])
 def test_in_shooting_range_it_kicks_only_between_the_posts(x: float, theta: float, kicks: bool) -> None:
