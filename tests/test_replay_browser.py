@@ -261,11 +261,12 @@ def test_extras_appear_only_with_their_data(browser, tmp_path: Path) -> None:
 
 @pytest.fixture(scope="module")
 def real_match(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """1 v 1, 10 s halves (about 20 s here); 2 v 2 with 30 s halves when making the screenshot of the docs."""
+    """The default team agents, 1 v 1, 10 s halves (about 20 s here); 2 v 2 with 30 s halves when making the
+    screenshot of the docs."""
     out = tmp_path_factory.mktemp("real-match")
     players, half_s = ("2", "30") if os.environ.get("ROBOTSTADIUM_SCREENSHOT") else ("1", "10")
     code = cli.main(["match", "--home-players", players, "--away-players", players, "--half-seconds", half_s,
-                     "--home", "scan_localize", "--no-shootout", "--no-progress", "--seed", "3", "--out", str(out)])
+                     "--no-shootout", "--no-progress", "--seed", "3", "--out", str(out)])
     assert code == 0
     return out
 
@@ -283,18 +284,18 @@ def test_a_real_match_writes_its_replay(real_match: Path) -> None:
 def test_a_real_match_plays_in_the_browser(browser, real_match: Path, tmp_path: Path) -> None:
     opened = Page(browser, real_match / "replay.html")
     try:
-        home = sum(p.startswith("home") for p in opened.js("window.replay.data.robots.map(r => r.id)"))
-        assert opened.page.locator("input.toggle[data-channel=estimate]").count() == home  # scan_localize reports
+        robots = len(opened.js("window.replay.data.robots.map(r => r.id)"))
+        assert opened.page.locator("input.toggle[data-channel=estimate]").count() == robots  # team agents report
         opened.page.locator(".mark.kickoff").first.click()
         for _ in range(2):
             opened.page.keyboard.press("Shift+ArrowRight")
         opened.page.locator("#all-estimate").check()
-        assert opened.stats()["estimates"] == home
+        assert opened.stats()["estimates"] == robots
         goals = opened.page.locator(".mark.goal")
         if goals.count():  # the screenshot: just after the first goal, if there is one
             goals.first.click()
             opened.page.keyboard.press("ArrowRight")
-        assert opened.stats()["robots"] == 2 * home
+        assert opened.stats()["robots"] == robots
         assert opened.pixels()["green"] > 0.5
         shot = tmp_path / "replay.png"
         opened.page.screenshot(path=str(shot))

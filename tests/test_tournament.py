@@ -1,9 +1,11 @@
 """Tournaments end to end on tiny matches: outputs, the same results for any worker count or
-backend, resume after an interrupt, refusals, a crashing and a raising policy, bad input."""
+backend, resume after an interrupt, refusals, a crashing and a raising policy, bad input,
+the replay pages and figures."""
 
 from __future__ import annotations
 
 import json
+import logging
 import shutil
 from pathlib import Path
 
@@ -12,6 +14,8 @@ import pytest
 
 import scenarios.tournament.run as tournament_run
 from scenarios import cli
+from scenarios.common.batch import BatchOptions
+from scenarios.tournament.settings import TournamentSettings
 
 # 1 v 1, 2 s halves, short pauses before the kick-offs, no shoot-out: a match is about 5 s simulated
 QUICK = ["--matches", "2", "--players", "1", "--half-seconds", "2", "--pauses", "0.2,0.4,0.2", "--no-shootout",
@@ -50,6 +54,55 @@ def test_a_tournament_writes_every_output(one_worker: Path) -> None:
     assert set(summary["standings"]) == {"scripted", "stand"} and summary["ratings"] is None
     assert len(summary["verdicts"]) == 1 and "over 2 matches" in summary["verdicts"][0]
     assert "## Verdicts" in (one_worker / "table.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.render
+def test_every_match_has_its_replay_page_and_no_figures(one_worker: Path) -> None:
+    for index in ("000", "001"):
+        match = one_worker / "matches" / index
+        assert "robotstadium-replay/1" in (match / "replay.html").read_text(encoding="utf-8")
+        assert not (match / "traces.png").exists() and not (match / "localization.png").exists()
+
+
+@pytest.mark.render
+def test_no_replay_writes_no_page_and_keeps_the_fingerprint(one_worker: Path, tmp_path: Path) -> None:
+    assert tournament(tmp_path, "--workers", "1", "--no-replay") == cli.EXIT_OK
+    assert sorted(p.name for p in (tmp_path / "matches").glob("*/replay.html")) == []
+    assert (tmp_path / "matches" / "001" / "match_log.npz").exists()
+    assert (tmp_path / "results.csv").read_bytes() == (one_worker / "results.csv").read_bytes()
+    marker = json.loads((tmp_path / "tournament.json").read_text(encoding="utf-8"))
+    assert marker == json.loads((one_worker / "tournament.json").read_text(encoding="utf-8"))
+
+
+@pytest.mark.render
+def test_plots_for_writes_the_figures_of_that_match_only(one_worker: Path, tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "copy"
+    shutil.copytree(one_worker, out)
+    # --resume accepts the finished tournament (the same fingerprint) and plays nothing more
+    assert tournament(out, "--workers", "1", "--resume", "--plots-for", "0", "--no-replay") == cli.EXIT_OK
+    figures = [out / "matches" / "000" / name for name in ("traces.png", "localization.png")]
+    assert [str(f) for f in figures] == capsys.readouterr().out.splitlines()[-2:]
+    assert all(f.stat().st_size > 0 for f in figures)
+    assert sorted(p.name for p in (out / "matches" / "001").iterdir()) == [
+        "events.jsonl", "match_log.npz", "replay.html", "summary.json"]
+    assert (out / "results.csv").read_bytes() == (one_worker / "results.csv").read_bytes()
+
+
+def no_page(directory: Path) -> list[Path]:
+    """A page writer that always fails (the workers import it from this module)."""
+    raise OSError(f"disk full under {directory.name}")
+
+
+@pytest.mark.render
+def test_a_page_that_fails_is_a_warning_and_the_match_is_kept(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    settings = TournamentSettings(("scripted", "stand"), 1, 2.0, 1, 3, False, (0.2, 0.4, 0.2))
+    with caplog.at_level(logging.WARNING, logger=tournament_run.__name__):
+        report = tournament_run.run_tournament(settings, tmp_path, BatchOptions(1, progress=False), page=no_page)
+    assert not report.failed and report.records[0]["home_goals"] is not None
+    assert sorted(p.name for p in (tmp_path / "matches" / "000").iterdir()) == [
+        "events.jsonl", "match_log.npz", "summary.json"]
+    assert any("no replay page (OSError: disk full" in r.getMessage() for r in caplog.records)
 
 
 @pytest.mark.render
@@ -119,6 +172,7 @@ def test_a_crashing_match_fails_alone_and_a_raising_policy_is_a_fault(tmp_path: 
     (["scripted", "stand", "--matches", "0"], ["--matches 0"]),
     (["scripted"], ["POLICY", "'scripted'"]),
     (["scripted", "stand", "--half-seconds", "-1"], ["--half-seconds -1"]),
+    (["scripted", "stand", "--matches", "2", "--plots-for", "99"], ["--plots-for 99", "from 0 to 1", "2 matches"]),
 ])
 def test_bad_input_exits_2_with_one_line_and_writes_nothing(arguments: list[str], words: list[str], tmp_path: Path,
                                                             capsys: pytest.CaptureFixture[str]) -> None:

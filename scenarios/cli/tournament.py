@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
 from scenarios.cli.arguments import (
@@ -21,10 +23,13 @@ HELP = "play many matches between policies and say, with 95%% intervals, which i
 DESCRIPTION = (
     "Play --matches matches between two policies (the same name twice: self-play), or per pair of a round robin "
     "between three or more, each pair half its matches with each policy at home; write matches/NNN/ (each match's "
-    "outputs), results.csv, summary.json, table.md, standings.png and, for three or more policies, ratings.png into "
-    "--out. A policy is a built-in name (scripted, scan_localize, stand) or package.module:ClassName. Finished "
-    "matches are kept; --resume continues an interrupted tournament."
+    "outputs and its replay page replay.html, --no-replay: not that), results.csv, summary.json, table.md, "
+    "standings.png and, for three or more policies, ratings.png into --out; --plots-for N also writes traces.png and "
+    "localization.png of match N. A policy is a built-in name (team and its variants, scripted, scan_localize, stand) or "
+    "package.module:ClassName. Finished matches are kept; --resume continues an interrupted tournament."
 )
+
+log = logging.getLogger(__name__)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -40,13 +45,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_no_progress(parser)
     parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
                         help="decide a tie by penalty shoot-out (default: yes)")
+    parser.add_argument("--no-replay", dest="replay", action="store_false",
+                        help="do not write each match's replay page (matches/NNN/replay.html)")
+    parser.add_argument("--plots-for", type=int, action="append", default=[], metavar="N",
+                        help="after the tournament, write traces.png and localization.png of match N (as in "
+                             "matches/NNN) into its directory (repeatable)")
     # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds (part of the settings)
     parser.add_argument("--pauses", default=None, help=argparse.SUPPRESS)
 
 
 def run(args: argparse.Namespace) -> int:
+    from scenarios.replay import write_replay
     from scenarios.tournament.report import table_markdown
-    from scenarios.tournament.run import run_tournament
+    from scenarios.tournament.run import check_match_index, run_tournament
     from scenarios.tournament.settings import TournamentError, TournamentSettings
 
     for name in args.policies:  # as the match command names them (modules in the current directory too)
@@ -56,9 +67,10 @@ def run(args: argparse.Namespace) -> int:
             raise TournamentError(f"POLICY: {error}") from None
     settings = TournamentSettings(tuple(args.policies), args.matches, args.half_seconds, args.players, args.seed,
                                   args.shootout, _pauses(args.pauses))
+    plots_for = sorted({check_match_index(settings, index, "--plots-for") for index in args.plots_for})
     options = batch_options(args)
     try:
-        report = run_tournament(settings, args.out, options)
+        report = run_tournament(settings, args.out, options, page=write_replay if args.replay else None)
     except KeyboardInterrupt:
         print(f"robotstadium tournament: interrupted; finished matches are kept in {args.out}: "
               "run again with --resume to continue", file=sys.stderr)
@@ -67,7 +79,27 @@ def run(args: argparse.Namespace) -> int:
     played = len(report.records) - len(report.failed)
     print(f"{played} matches played, {len(report.failed)} failed, {report.wall_seconds:.0f} s wall; "
           f"written to {args.out}")
+    for path in _write_plots(args.out, report.records, plots_for):
+        print(path)
     return EXIT_OK
+
+
+def _write_plots(out: Path, records: Iterable[dict], indices: Iterable[int]) -> list[Path]:
+    """traces.png and localization.png of each match in ``indices``; a failed match has none (a warning)."""
+    from scenarios.replay import ReplayInputError, write_replay
+    from scenarios.tournament.run import match_dir
+
+    status = {record["match"]: record["status"] for record in records}
+    written: list[Path] = []
+    for index in indices:
+        if status[index] != "ok":
+            log.warning("--plots-for %d: match %d failed, it has no figures", index, index)
+            continue
+        try:
+            written += write_replay(match_dir(out, index), write_page=False, plots=True)
+        except ReplayInputError as error:
+            log.warning("--plots-for %d: no figures: %s", index, error)
+    return written
 
 
 def _pauses(text: str | None) -> tuple[float, ...] | None:

@@ -7,10 +7,15 @@ that kills its process ends only its match) or as Ray tasks, through
 a tournament interrupted with Ctrl-C or killed keeps what it finished, and ``resume``
 plays only the matches without a record (and those that failed). The report is built from
 the records in match order: the same whatever the worker count or the backend.
+
+With a page writer (the command line gives :func:`scenarios.replay.write_replay`), each
+worker writes its match's replay page right after the match, and it is kept in
+``DIR/matches/NNN/`` with the logs; a page that fails is a warning, the match is kept.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import shutil
 import time
@@ -33,7 +38,7 @@ from scenarios.tournament.report import (
     write_summary_json,
     write_table,
 )
-from scenarios.tournament.settings import MatchTask, TournamentError, TournamentSettings
+from scenarios.tournament.settings import MatchTask, PageWriter, TournamentError, TournamentSettings
 
 log = logging.getLogger(__name__)
 
@@ -51,16 +56,27 @@ def check_policies(settings: TournamentSettings) -> None:
             raise TournamentError(f"POLICY: {error}") from None
 
 
+def check_match_index(settings: TournamentSettings, index: int, flag: str) -> int:
+    """``index`` when it names a match of ``settings`` (as ``matches/NNN`` does); a :class:`TournamentError`
+    naming ``flag``, the value and the range otherwise."""
+    count = settings.match_count()
+    if not 0 <= index < count:
+        raise TournamentError(f"{flag} {index}: expected a match index from 0 to {count - 1} "
+                              f"(the tournament plays {count} matches, matches/000 to matches/{count - 1:03d})")
+    return index
+
+
 def match_dir(out_dir: Path, index: int) -> Path:
     return Path(out_dir) / MATCHES_DIR / f"{index:03d}"
 
 
-def run_tournament(settings: TournamentSettings, out_dir: Path,
-                   options: BatchOptions = BatchOptions()) -> TournamentReport:
+def run_tournament(settings: TournamentSettings, out_dir: Path, options: BatchOptions = BatchOptions(),
+                   page: PageWriter | None = None) -> TournamentReport:
     """Play every match of ``settings`` not already recorded in ``out_dir``; write and return the report.
 
     Everything is checked before anything is written: the policies, the backend, and on
-    ``options.resume`` that ``out_dir`` holds matches of the same settings.
+    ``options.resume`` that ``out_dir`` holds matches of the same settings. ``page``: writes
+    each played match's replay page in its worker (None: no pages); it is not a setting.
     """
     started = time.perf_counter()
     out_dir = Path(out_dir)
@@ -74,7 +90,7 @@ def run_tournament(settings: TournamentSettings, out_dir: Path,
     if not options.resume:
         _clear_matches(out_dir)
     records = {i: r for i, r in store.load().items() if r["status"] == "ok"}  # failed ones are played again
-    pending = [t for t in tasks if t.index not in records]
+    pending = [dataclasses.replace(t, page=page) for t in tasks if t.index not in records]
     if records:
         log.info("%d of %d matches already in %s", len(records), len(tasks), out_dir)
     entrants = settings.entrants()
@@ -120,6 +136,8 @@ def _keep(out_dir: Path, store: ResultStore, result: TaskResult) -> dict:
     else:
         for name, data in result.value.files.items():
             (directory / name).write_bytes(data)
+        if result.value.page_error is not None:
+            log.warning("%s: no replay page (%s); the match is kept", task.label, result.value.page_error)
     record = match_record(task, result)
     store.save(task.index, record)
     return record

@@ -14,12 +14,17 @@ import hashlib
 import itertools
 import json
 import math
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 MAX_PLAYERS = 4
 PAUSE_NAMES = ("initial_seconds", "ready_seconds", "set_seconds")  # the referee's pauses before a kick-off
+
+# Writes a match's replay page into the match directory it is given; returns the paths written.
+PageWriter = Callable[[Path], Iterable[Path]]
 
 
 class TournamentError(ValueError):
@@ -84,6 +89,10 @@ class TournamentSettings:
             return tuple(f"{self.policies[0]} ({side})" for side in ("home", "away"))
         return self.policies
 
+    def match_count(self) -> int:
+        """How many matches the tournament plays (``matches/000`` to ``matches/<count - 1>``)."""
+        return len(self.pairs()) * self.matches
+
     def referee(self) -> dict[str, float]:
         """Referee settings of every match besides the half's length and the shoot-out."""
         return dict(zip(PAUSE_NAMES, self.pauses)) if self.pauses is not None else {}
@@ -118,7 +127,11 @@ class TournamentSettings:
 
 @dataclass(frozen=True)
 class MatchTask:
-    """One match of the schedule: its index, its pair and place in the pair, who is home, its seed."""
+    """One match of the schedule: its index, its pair and place in the pair, who is home, its seed.
+
+    ``page``: what writes the match's replay page after it, in the worker (an output, not a
+    setting: it is no part of the fingerprint; None: no page).
+    """
 
     index: int
     pair: int
@@ -127,6 +140,7 @@ class MatchTask:
     away: str
     seed: int
     settings: TournamentSettings
+    page: PageWriter | None = field(default=None, compare=False, repr=False)
 
     @property
     def label(self) -> str:
