@@ -137,7 +137,9 @@ def kick_for(ball: RelativeBall) -> Motion:
     return Motion.KICK_LEFT if ball.left_m > 0.0 else Motion.KICK_RIGHT
 
 
-def chase(ball: RelativeBall, heading_error_rad: float, foot_first: bool = False) -> tuple[Motion, tuple[float, float, float]]:
+def chase(
+    ball: RelativeBall, heading_error_rad: float, foot_first: bool = False
+) -> tuple[Motion, tuple[float, float, float]]:
     """Field player with the ball in sight: turn to it, walk to it, kick it toward the goal.
 
     ``heading_error_rad``: attacked direction minus estimated heading, normalized.
