@@ -3,18 +3,22 @@
 One step (40 ms) runs, from the observation only:
 
 1. **Odometry**: the walk commanded last step moved the robot, and the gyro says how much
-   it turned; the self-locator and the ball model are moved by it (:mod:`agents.modelling`).
+   it turned; the self-locator, the ball model and the obstacle model are moved by it
+   (:mod:`agents.modelling`), and the sonars' echoes go into the obstacle model.
 2. **Radio in**: teammates' messages (:mod:`agents.team.messages`) into the team model;
    anything else is counted and ignored.
 3. **Perception** (when the camera gave a frame): the landmark pipeline of
    :mod:`agents.vision`, the ball from the same segmented image, its size checked against
-   its distance; landmarks update the self-locator, the ball the ball model.
+   its distance, and other robots by their waistbands; landmarks update the self-locator,
+   the ball the ball model, robots the obstacle model.
 4. **Game state**: stand in INITIAL, SET and FINISHED (placed at its kick-off pose in
    INITIAL, so the locator is reset there, and in SET when far from it: the referee placed
-   it); walk to the kick-off pose in READY; stand up after a fall.
+   it); walk to the kick-off pose in READY; stand up after a fall; in a penalty shoot-out,
+   reset at the kicker's or goalkeeper's place when the kick is set.
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
-   from the team model; the striker chases the ball and kicks it toward the opponent goal
-   computed from its pose estimate; the others walk to their role's position.
+   from the team model; the striker goes behind the ball and kicks it toward the opponent
+   goal computed from its pose estimate; the others walk to their role's position; every
+   walk steps around the obstacles but the striker's near its ball.
 6. **Head**: track the ball, glance at a goal when the pose is uncertain, sweep when the
    ball is lost; the camera is on every other step.
 7. **Radio out**: pose, ball, role and intention every :data:`RADIO_EVERY_STEPS` steps.
