@@ -157,3 +157,17 @@ def test_it_takes_penalties_in_the_shootout(tmp_path) -> None:
              if e["kind"] == "shootout_kick"]
     assert [k["team"] for k in kicks].count("home") == 2
     assert summary.shootout is not None and summary.shootout["home"] >= 1, kicks
+
+
+def test_the_striker_goes_behind_the_ball_and_round_it_on_its_own_side() -> None:
+    from agents.behavior.skills import BEHIND_BALL_M, PASS_BALL_SIDE_M, behind_ball
+
+    ball, goal = (1.0, 0.0), (3.0, 0.0)
+    assert behind_ball(Pose2D(0.0, 0.1, 0.0), ball, goal) is None  # already coming from behind
+    behind = behind_ball(Pose2D(0.5, -1.0, 1.57), ball, goal)  # 63 degrees off: go behind first
+    assert (behind.x, behind.y, behind.theta) == pytest.approx((1.0 - BEHIND_BALL_M, 0.0, 0.0))
+    level = behind_ball(Pose2D(1.0, -1.0, 1.57), ball, goal)  # level with the ball: past it on its side first
+    assert (level.x, level.y) == pytest.approx((1.0 - BEHIND_BALL_M / 2, -PASS_BALL_SIDE_M))
+    beyond = behind_ball(Pose2D(2.0, 0.3, math.pi), ball, goal)  # on the far side, a little left
+    assert beyond.y == pytest.approx(PASS_BALL_SIDE_M) and beyond.x < ball[0]  # passes on its own (left) side
+    assert behind_ball(Pose2D(2.0, 0.3, math.pi), (3.3, 0.0), goal) is None  # a ball out of the field
