@@ -46,6 +46,7 @@ from agents.team.report import landmarks_seen
 from agents.vision.ball import ball_in_mask, plausible
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
+from agents.vision.percepts import LandmarkPercept
 from agents.vision.pipeline import VisionPipeline
 from agents.vision.robots import find_robots
 from match.protocol import (
@@ -129,7 +130,10 @@ class TeamAgent:
         self._acceleration_z = 9.81
         self._kicked_s = -math.inf  # when it last kicked (s)
         self._fall_sequence = 0  # the finished-motion count when it last went down
-        self._seen: tuple[int, frozenset[int]] = (-1, frozenset())  # (step, landmark indices) of the last frame
+        # the last frame, for report(): its step, its percepts and the pose they were seen from; the
+        # landmark indices are matched only when a report asks for them (evaluation, not play)
+        self._seen: tuple[int, tuple[LandmarkPercept, ...], Pose2D | None] = (-1, (), None)
+        self._seen_landmarks: tuple[int, frozenset[int]] = (-1, frozenset())
         self._believed_balls: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
         self._time_to_ball_s = math.inf
 
@@ -192,8 +196,7 @@ class TeamAgent:
     def _see(self, obs: Observation) -> None:
         frame = CameraFrame.from_observation(obs)
         result = self.pipeline.process(frame)
-        if self.locator.pose is not None:  # the last frame's landmarks, for report()
-            self._seen = (self.step, landmarks_seen(result.percepts, self.locator.pose))
+        self._seen = (self.step, result.percepts, self.locator.pose)
         self.locator.update(result.percepts)
         own_goal = obs.game.defended_goal
         for percept in result.percepts:
@@ -424,13 +427,21 @@ class TeamAgent:
         of its last camera frame if that frame is at most one camera period old. None before it has a pose."""
         if self.locator.pose is None:
             return None
-        seen_step, seen = self._seen
         return AgentReport(
             ball_xy=self._believed_balls[0],
             team_ball_xy=self._believed_balls[1],
             role=None if self.role is Role.NONE else self.role.name.lower(),
-            landmarks_seen=seen if 0 <= self.step - seen_step <= CAMERA_EVERY_STEPS else frozenset(),
+            landmarks_seen=self._last_landmarks(),
         )
+
+    def _last_landmarks(self) -> frozenset[int]:
+        """The landmarks of the last frame if it is at most one camera period old (matched once per frame)."""
+        step, percepts, pose = self._seen
+        if pose is None or not 0 <= self.step - step <= CAMERA_EVERY_STEPS:
+            return frozenset()
+        if self._seen_landmarks[0] != step:
+            self._seen_landmarks = (step, landmarks_seen(percepts, pose))
+        return self._seen_landmarks[1]
 
 
 def _on_target(heading_rad: float, ball_xy: tuple[float, float], goal_x: float) -> bool:
