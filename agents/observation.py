@@ -9,6 +9,7 @@ pitch positive looking down.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -16,9 +17,11 @@ from typing import Any
 import numpy as np
 
 from match.protocol import (
+    MAX_SECONDS,
     MOTIONS,
     CameraChoice,
     Displacement,
+    DropIn,
     GameControlView,
     GameState,
     GoalColor,
@@ -156,7 +159,14 @@ def _game(game: Mapping[str, Any]) -> GameControlView:
         half=int(game["half"]),
         team_color=TeamColor.BLUE if int(game["team_color"]) == 0 else TeamColor.RED,
         defended_goal=GoalColor.BLUE if int(game["defended_goal"]) == 0 else GoalColor.YELLOW,
+        drop_in_team=DropIn(int(game["drop_in_team"])),
+        seconds_since_drop_in=_seconds_since_drop_in(float(game["seconds_since_drop_in"])),
     )
+
+
+def _seconds_since_drop_in(seconds: float) -> float:
+    """The observation's clipped figure back to the view's: inf when there was no throw-in this half."""
+    return math.inf if seconds >= MAX_SECONDS else seconds
 
 
 def _packets(radio: Mapping[str, Any]) -> tuple[RadioPacket, ...]:

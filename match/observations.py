@@ -35,6 +35,8 @@ def game_observation(view: GameControlView, player: int) -> dict:
         "team_color": 0 if view.team_color is TeamColor.BLUE else 1,
         "defended_goal": 0 if view.defended_goal is GoalColor.BLUE else 1,
         "player": int(player),
+        "drop_in_team": int(view.drop_in_team),
+        "seconds_since_drop_in": np.array(min(max(view.seconds_since_drop_in, 0.0), sp.MAX_SECONDS), dtype=np.float32),
     }
 
 

@@ -20,16 +20,15 @@ from match.errors import MatchConfigError
 from match.events import DisallowedReason, EventKind, MatchEvent, ReplacedReason
 from match.protocol.game_control import GameControlData, GameState, SecondaryState
 from match.protocol.ids import AgentId, Side
-from match.protocol.kickoff import kickoff_pose
+from match.protocol.kickoff import kickoff_pose, legal_kickoff_position
+from match.protocol.throw_in import throw_in_spot
 from match.rules import (
     BallOut,
     OutKind,
     ball_out,
     goal_crossed,
-    legal_kickoff_position,
     shift_off_robots,
     sideline_pose,
-    throw_in_spot,
 )
 from match.shootout import PenaltyShootout, ShootoutTally
 from world.ball import BallState
@@ -103,7 +102,7 @@ class RefereeUpdate:
 @dataclass
 class _PendingOut:
     out: BallOut
-    toucher_defends: GoalColor | None
+    toucher: Side | None  # the side that touched the ball last
     since_s: float
 
 
@@ -137,6 +136,7 @@ class Referee:
         self._last_update_s = 0.0
         self._next_broadcast_s = 0.0
         self._pending_out: _PendingOut | None = None
+        self._drop_in: tuple[Side | None, float] | None = None  # the last throw-in this half: who put it out, when
         self._kickoff_shot_open = False
         self._ball_left_circle = False
         self._last_touch: tuple[str | None, float | None] = (None, None)
@@ -174,6 +174,8 @@ class Referee:
             home_color=self.home_color,
             home_defends=self.home_defends,
             time_s=self.pitch.time_s,
+            drop_in_team=None if self._drop_in is None else self._drop_in[0],
+            seconds_since_drop_in=math.inf if self._drop_in is None else self.pitch.time_s - self._drop_in[1],
         )
 
     def holds(self, agent: AgentId) -> bool:
@@ -266,7 +268,7 @@ class Referee:
         out = ball_out(ball.x, ball.y, ball.z)
         if out is not None:
             toucher = self._side_of_robot(ball.last_toucher)
-            self._pending_out = _PendingOut(out, self.defended_goal(toucher) if toucher else None, now)
+            self._pending_out = _PendingOut(out, toucher, now)
             self._event(EventKind.BALL_OUT, line=out.kind.value, x=round(out.x, 3), y=round(out.y, 3),
                         last_toucher=ball.last_toucher)
 
@@ -279,7 +281,7 @@ class Referee:
             self._event(EventKind.GOAL_DISALLOWED, team=scorer.value, reason=DisallowedReason.KICKOFF_SHOT.value,
                         last_toucher=ball.last_toucher)
             out = BallOut(OutKind.END_LINE, ball.x, ball.y)
-            self._pending_out = _PendingOut(out, self.defended_goal(scorer), now)
+            self._pending_out = _PendingOut(out, scorer, now)
             return
         self.score[scorer] += 1
         self._new_goals.append(scorer)
@@ -292,9 +294,11 @@ class Referee:
     def _throw_in(self) -> None:
         pending = self._pending_out
         self._pending_out = None
-        spot = throw_in_spot(pending.out, pending.toucher_defends)
+        toucher_defends = None if pending.toucher is None else self.defended_goal(pending.toucher)
+        spot = throw_in_spot(pending.out.x, pending.out.y, pending.out.kind is OutKind.END_LINE, toucher_defends)
         x, y = shift_off_robots(spot, self._robot_positions())
         self._place_ball(x, y)
+        self._drop_in = (pending.toucher, self.pitch.time_s)
         self._event(EventKind.THROW_IN, x=round(x, 3), y=round(y, 3), line=pending.out.kind.value)
 
     def _end_half(self, now: float) -> None:
@@ -308,6 +312,7 @@ class Referee:
             self.seconds_remaining = self.config.half_seconds
             self.kickoff = self.side_of_color(self.config.first_kickoff_color)
             self._pending_out = None
+            self._drop_in = None
             self._enter(GameState.INITIAL, now)
             self._place_for_kickoff(only_illegal=False)
         elif self.config.shootout and self.score[Side.HOME] == self.score[Side.AWAY]:

@@ -13,14 +13,10 @@ from dataclasses import dataclass
 
 from world.field import FIELD, FieldGeometry, GoalColor, Pose2D
 
-THROW_IN_INSET_M = 0.4  # throw-in line: this far inside the side line
-THROW_IN_BACK_M = 1.0  # ball moved back toward the goal of the team that touched it last
-THROW_IN_MAX_X_M = 2.0  # the throw-in line's ends
 BALL_SHIFT_M = 0.1  # placed ball moved this far toward the centre while on a robot
 BALL_ROBOT_CLEARANCE_M = 0.2  # a placed ball nearer a robot's torso centre than this is "on" it
 ROBOT_SPACING_M = 0.4  # robots placed back at the side line keep this far apart
 SIDELINE_REPLACEMENT_X_M = 1.2  # |x| of the side-line spot: the own penalty mark's x
-LEGAL_POSITION_TOLERANCE_M = 0.05  # slack on half and circle limits at SET
 
 
 class OutKind(enum.Enum):
@@ -56,26 +52,6 @@ def ball_out(x: float, y: float, z: float, field: FieldGeometry = FIELD) -> Ball
     if abs(x) > field.half_length + margin:
         return BallOut(OutKind.END_LINE, x, y)
     return None
-
-
-def throw_in_spot(out: BallOut, toucher_defends: GoalColor | None, field: FieldGeometry = FIELD) -> tuple[float, float]:
-    """Where the referee puts the ball after ``out``, given the goal the last toucher defends.
-
-    Side line: on the throw-in line, 1 m back toward the toucher's own goal, |x| <= 2.
-    End line: by the defending team -> the end of the throw-in line on that side; by the
-    attacking team (or nobody) -> the halfway line. Always on the side where it went out.
-    """
-    side = 1.0 if out.y >= 0.0 else -1.0
-    y = side * (field.half_width - THROW_IN_INSET_M)
-    if out.kind is OutKind.SIDE_LINE:
-        x = out.x
-        if toucher_defends is not None:
-            x += toucher_defends.sign * THROW_IN_BACK_M
-        return _clamp(x, THROW_IN_MAX_X_M), y
-    crossed = GoalColor.YELLOW if out.x > 0 else GoalColor.BLUE
-    if toucher_defends is crossed:
-        return crossed.sign * THROW_IN_MAX_X_M, y
-    return 0.0, y
 
 
 def shift_off_robots(
@@ -115,20 +91,3 @@ def sideline_pose(
     return Pose2D(x, y, -side * math.pi / 2.0)
 
 
-def legal_kickoff_position(
-    x: float, y: float, defended: GoalColor, kicking: bool, field: FieldGeometry = FIELD
-) -> bool:
-    """Whether a robot at (x, y) may stay there when SET begins.
-
-    Everyone must be on the field in its own half; robots of the defending team must also be
-    outside the centre circle.
-    """
-    tol = LEGAL_POSITION_TOLERANCE_M
-    on_field = abs(x) <= field.half_length + tol and abs(y) <= field.half_width + tol
-    own_half = defended.sign * x >= -tol
-    outside_circle = math.hypot(x, y) >= field.center_circle_radius - tol
-    return on_field and own_half and (kicking or outside_circle)
-
-
-def _clamp(value: float, limit: float) -> float:
-    return max(-limit, min(limit, value))

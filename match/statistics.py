@@ -25,10 +25,12 @@ shoot-out's kicks count for nothing here):
   ``orientation_error_p95_deg``: over every control step of playing time and every robot
   of the team whose policy reported a pose estimate (None when none did);
   ``pose_estimates`` counts those robot-steps; ``lost_share``: the share of them more than
-  :data:`LOST_M` off;
+  :data:`LOST_M` off; the same with a ``field_`` prefix over the field players alone (every
+  robot but the goalkeeper, player 0);
 - ``longest_still_s``: the longest stretch of playing time in which one of the team's robots
   stayed within :data:`STILL_M` and :data:`STILL_RAD` of where it was (a stuck robot; a
-  goalkeeper with the ball far away may also stand);
+  goalkeeper with the ball far away may also stand); ``longest_still_field_s``: the same
+  over the field players alone (every robot but the goalkeeper, player 0);
 
 and for the match, ``restart_max_s``: the longest time from a kick-off or throw-in to the
 next touch of the ball (None without restarts; a restart nobody touched counts until the
@@ -44,6 +46,7 @@ import numpy as np
 
 from match.protocol.actions import Action
 from match.protocol.game_control import GameState
+from match.protocol.ids import AgentId
 from world.field import FIELD
 
 SIDES = ("home", "away")
@@ -76,7 +79,14 @@ TEAM_KEYS = (
     "orientation_error_mean_deg",
     "orientation_error_p95_deg",
     "lost_share",
+    "field_pose_estimates",
+    "field_position_error_mean_m",
+    "field_position_error_p95_m",
+    "field_orientation_error_mean_deg",
+    "field_orientation_error_p95_deg",
+    "field_lost_share",
     "longest_still_s",
+    "longest_still_field_s",
 )
 
 
@@ -188,49 +198,64 @@ def _from_log(teams: dict, play_events: Sequence[Mapping], log: Mapping[str, np.
 
 
 def _stillness(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:
-    """The longest stretch of playing time any robot of each team stood still (see the module)."""
+    """The longest stretch of playing time any robot, and any field player, of each team stood still
+    (see the module)."""
     agents = [str(a) for a in np.asarray(log["agents"])]
     time_s = np.asarray(log["time_s"], dtype=float)
     robots = np.asarray(log["robots"], dtype=float)
     for side in SIDES:
-        teams[side]["longest_still_s"] = 0.0
+        teams[side]["longest_still_s"] = teams[side]["longest_still_field_s"] = 0.0
     for i, agent in enumerate(agents):
         side = side_of(agent)
         if side is None or rows.size == 0:
             continue
-        longest, start = 0.0, 0
-        anchor = robots[rows[0], i]
-        for k in range(1, rows.size):
-            pose = robots[rows[k], i]
-            gap = rows[k] != rows[k - 1] + 1  # play stopped in between: a new stretch
-            moved = (math.hypot(pose[0] - anchor[0], pose[1] - anchor[1]) > STILL_M
-                     or abs(math.remainder(pose[2] - anchor[2], math.tau)) > STILL_RAD)
-            if gap or moved:
-                start, anchor = k, pose
-            longest = max(longest, time_s[rows[k]] - time_s[rows[start]])
+        longest = _longest_still_s(robots[rows, i], rows, time_s[rows])
         teams[side]["longest_still_s"] = round(max(teams[side]["longest_still_s"], longest), 3)
+        if not AgentId.parse(agent).is_goalkeeper:
+            teams[side]["longest_still_field_s"] = round(max(teams[side]["longest_still_field_s"], longest), 3)
+
+
+def _longest_still_s(poses: np.ndarray, rows: np.ndarray, time_s: np.ndarray) -> float:
+    """The longest stretch (s) of consecutive ``rows`` in which ``poses`` (x, y, theta) stayed put."""
+    longest, start = 0.0, 0
+    anchor = poses[0]
+    for k in range(1, rows.size):
+        pose = poses[k]
+        gap = rows[k] != rows[k - 1] + 1  # play stopped in between: a new stretch
+        moved = (math.hypot(pose[0] - anchor[0], pose[1] - anchor[1]) > STILL_M
+                 or abs(math.remainder(pose[2] - anchor[2], math.tau)) > STILL_RAD)
+        if gap or moved:
+            start, anchor = k, pose
+        longest = max(longest, time_s[k] - time_s[start])
+    return longest
 
 
 def _pose_errors(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:
+    """Pose-estimate errors of every robot, and of the field players alone (``field_`` keys)."""
     agents = [str(a) for a in np.asarray(log["agents"])]
     truth = np.asarray(log["robots"], dtype=float)[rows]
     estimates = np.asarray(log["estimates"], dtype=float)[rows]
     for side in SIDES:
         columns = [i for i, agent in enumerate(agents) if side_of(agent) == side]
-        true, est = truth[:, columns].reshape(-1, 3), estimates[:, columns].reshape(-1, 3)
-        known = np.isfinite(est).all(axis=1)
-        true, est = true[known], est[known]
-        position = np.hypot(est[:, 0] - true[:, 0], est[:, 1] - true[:, 1])
-        turn = np.angle(np.exp(1j * (est[:, 2] - true[:, 2])))  # wrapped to [-pi, pi]
-        orientation = np.degrees(np.abs(turn))
-        team = teams[side]
-        team["pose_estimates"] = int(known.sum())
-        for name, errors in (("position_error", position), ("orientation_error", orientation)):
-            unit = "m" if name == "position_error" else "deg"
-            empty = errors.size == 0
-            team[f"{name}_mean_{unit}"] = None if empty else round(float(np.mean(errors)), 4)
-            team[f"{name}_p95_{unit}"] = None if empty else round(float(np.percentile(errors, 95)), 4)
-        team["lost_share"] = None if position.size == 0 else round(float(np.mean(position > LOST_M)), 4)
+        field = [i for i in columns if not AgentId.parse(agents[i]).is_goalkeeper]
+        for prefix, chosen in (("", columns), ("field_", field)):
+            _estimate_errors(teams[side], prefix, truth[:, chosen].reshape(-1, 3), estimates[:, chosen].reshape(-1, 3))
+
+
+def _estimate_errors(team: dict, prefix: str, true: np.ndarray, est: np.ndarray) -> None:
+    """Means, 95th percentiles and the lost share of (N, 3) estimates against the truth, into ``team``."""
+    known = np.isfinite(est).all(axis=1)
+    true, est = true[known], est[known]
+    position = np.hypot(est[:, 0] - true[:, 0], est[:, 1] - true[:, 1])
+    turn = np.angle(np.exp(1j * (est[:, 2] - true[:, 2])))  # wrapped to [-pi, pi]
+    orientation = np.degrees(np.abs(turn))
+    team[f"{prefix}pose_estimates"] = int(known.sum())
+    for name, errors in (("position_error", position), ("orientation_error", orientation)):
+        unit = "m" if name == "position_error" else "deg"
+        empty = errors.size == 0
+        team[f"{prefix}{name}_mean_{unit}"] = None if empty else round(float(np.mean(errors)), 4)
+        team[f"{prefix}{name}_p95_{unit}"] = None if empty else round(float(np.percentile(errors, 95)), 4)
+    team[f"{prefix}lost_share"] = None if position.size == 0 else round(float(np.mean(position > LOST_M)), 4)
 
 
 class TeamRadio:

@@ -149,8 +149,10 @@ def test_lost_share_stillness_and_restarts(statistics: dict) -> None:
     home, away = statistics["home"], statistics["away"]
     assert home["lost_share"] == pytest.approx(1 / 9, abs=1e-4)  # the one estimate 1 m off (0.5 m is not lost)
     assert away["lost_share"] is None
+    assert home["field_lost_share"] is None and home["field_pose_estimates"] == 0  # a goalkeeper alone
     # nobody moves: the longest stretch of play without a stop is rows 1-6 (1 s to 6 s)
     assert home["longest_still_s"] == pytest.approx(5.0) and away["longest_still_s"] == pytest.approx(5.0)
+    assert home["longest_still_field_s"] == away["longest_still_field_s"] == 0.0  # goalkeepers alone
     assert statistics["restart_max_s"] == pytest.approx(1.0)  # the kick-off at 1 s, the first touch at 2 s
 
 
@@ -161,3 +163,15 @@ def test_a_robot_that_moves_is_not_still() -> None:
     statistics = match_statistics(EVENTS, log, SUMMARY)
     assert statistics["home"]["longest_still_s"] == pytest.approx(0.0)
     assert statistics["away"]["longest_still_s"] == pytest.approx(5.0)
+
+
+
+def test_a_field_player_counts_in_the_field_figures_where_a_goalkeeper_does_not() -> None:
+    log = hand_built_log()
+    log["agents"] = np.array(["home_1", "away_0"])
+    statistics = match_statistics(EVENTS, log, SUMMARY)
+    home = statistics["home"]
+    assert home["longest_still_field_s"] == pytest.approx(5.0)
+    assert statistics["away"]["longest_still_field_s"] == 0.0
+    assert home["field_lost_share"] == home["lost_share"] == pytest.approx(1 / 9, abs=1e-4)
+    assert home["field_position_error_mean_m"] == home["position_error_mean_m"]

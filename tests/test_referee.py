@@ -9,9 +9,10 @@ import pytest
 
 from match.errors import MatchConfigError
 from match.events import EventKind
-from match.protocol.game_control import GameState, SecondaryState
+from match.protocol.game_control import DropIn, GameState, SecondaryState
 from match.protocol.ids import AgentId, Side
 from match.protocol.kickoff import kickoff_pose
+from match.protocol.throw_in import throw_in_spot
 from match.referee import RefereeConfig
 from tests.referee_pitch import advance, make_referee, to_playing
 from world.field import GoalColor, Pose2D
@@ -151,6 +152,26 @@ def test_ball_out_placement(ball, toucher, expected):
     assert "throw_in" in kinds(events)
     assert (pitch.ball_state.x, pitch.ball_state.y) == pytest.approx(expected)
     assert (pitch.ball_state.vx, pitch.ball_state.vy) == (0.0, 0.0)
+
+
+def test_game_control_tells_who_put_the_ball_out_and_when_it_was_put_back():
+    referee, pitch = make_referee()
+    to_playing(referee, pitch)
+    assert referee.game_control().seconds_since_drop_in == math.inf
+    assert referee.game_control().view_for(Side.HOME).drop_in_team is DropIn.NONE
+    pitch.put_ball(0.3, 0.3, toucher="away_1")
+    advance(referee, pitch, 0.04)
+    pitch.put_ball(1.0, 2.1, toucher="home_1")
+    advance(referee, pitch, 2.0)
+    assert referee.game_control().drop_in_team is None  # out, not yet put back
+    advance(referee, pitch, 0.04)
+    advance(referee, pitch, 0.4)
+    control = referee.game_control()
+    assert control.drop_in_team is Side.HOME and control.seconds_since_drop_in == pytest.approx(0.4, abs=0.05)
+    assert control.view_for(Side.HOME).drop_in_team is DropIn.OWN_TEAM
+    assert control.view_for(Side.AWAY).drop_in_team is DropIn.OPPONENT
+    # the rule players know gives the spot the referee used
+    assert throw_in_spot(1.0, 2.1, False, GoalColor.BLUE) == pytest.approx((pitch.ball_state.x, pitch.ball_state.y))
 
 
 def test_placed_ball_moves_toward_the_centre_off_a_robot():

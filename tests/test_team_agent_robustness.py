@@ -86,7 +86,7 @@ def _free_play(start: Pose2D, seed: int, ball_xy: tuple[float, float] | None = N
 def test_knocked_over_mid_kick_it_stands_up_and_walks_again(push: str, within_s: float) -> None:
     """Pushed over while its observation says it is kicking, it gets up (4.5 s) and walks again.
 
-    Measured: 4.7 s from the push to walking again, pushed backwards or forwards; 9.3 s when it
+    Measured: about 5 s from the push to walking again, pushed backwards or forwards; 9.3 s when it
     rolls onto its side, where the accelerometer does not tell front from back: the first
     stand-up leaves it down, and it tries the other one.
     """

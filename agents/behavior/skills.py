@@ -48,6 +48,10 @@ SEARCH_SCAN_RATE_RADPS = 1.5
 IDLE_SCAN_RATE_RADPS = 0.5
 FULL_SWEEP_REVERSALS = 2  # one end and then the other: the whole range was looked at
 SEARCH_TURN_RADPS = 0.8
+# A search starts with a quick look near the feet (bottom camera, +-NEAR_SWEEP_AMPLITUDE_RAD):
+# a ball lost from view is most often one the robot stands next to.
+NEAR_SWEEP_AMPLITUDE_RAD = math.radians(60.0)
+NEAR_SWEEP_RATE_RADPS = 3.0
 SEARCH_TURN_STEPS = 50  # about 90 degrees at SEARCH_TURN_RADPS
 # While turning, look ahead with the bottom camera: it covers the ground 0.25-0.9 m ahead,
 # which the top camera at SCAN_PITCH_RAD (from about 0.7 m) misses.
@@ -130,7 +134,11 @@ def orbit(ball: RelativeBall, turn_rad: float) -> tuple[float, float, float]:
     """Side-step around the ball (vy opposite to omega) to turn by ``turn_rad`` while facing it."""
     omega = math.copysign(ORBIT_RADPS, turn_rad)
     vx = ORBIT_DISTANCE_GAIN_PER_S * (ball.distance_m - ORBIT_DISTANCE_M)
-    return walk_command(vx, -omega * max(ball.distance_m, ORBIT_DISTANCE_M), omega + TURN_GAIN_PER_S * ball.bearing_rad)
+    # Keep the ball before the nearer foot, not before the torso: steering it to the centre would
+    # turn the robot against the orbit while the ball lies at a foot.
+    forward = max(ball.distance_m * math.cos(ball.bearing_rad), ORBIT_DISTANCE_M / 2)
+    off_foot = math.atan2(ball.left_m - math.copysign(FOOT_OFFSET_M, ball.left_m), forward)
+    return walk_command(vx, -omega * max(ball.distance_m, ORBIT_DISTANCE_M), omega + TURN_GAIN_PER_S * off_foot)
 
 
 def kick_for(ball: RelativeBall) -> Motion:
@@ -171,22 +179,23 @@ def keep_goal(ball: RelativeBall, heading_error_rad: float) -> tuple[Motion, tup
 
 @dataclass
 class HeadSweep:
-    """A triangular head-yaw sweep across +-SCAN_AMPLITUDE_RAD, counting its reversals."""
+    """A triangular head-yaw sweep across +-``amplitude_rad``, counting its reversals."""
 
     yaw_rad: float = 0.0
     direction: float = 1.0
     reversals: int = 0
+    amplitude_rad: float = SCAN_AMPLITUDE_RAD
 
     def restart(self, yaw_rad: float, direction: float) -> None:
-        self.yaw_rad = min(max(yaw_rad, -SCAN_AMPLITUDE_RAD), SCAN_AMPLITUDE_RAD)
+        self.yaw_rad = min(max(yaw_rad, -self.amplitude_rad), self.amplitude_rad)
         self.direction = 1.0 if direction >= 0.0 else -1.0
         self.reversals = 0
 
     def advance(self, rate_radps: float) -> float:
         """Move the yaw target one control step on; return it (rad)."""
         self.yaw_rad += self.direction * rate_radps * CONTROL_STEP_S
-        if abs(self.yaw_rad) >= SCAN_AMPLITUDE_RAD:
-            self.yaw_rad = math.copysign(SCAN_AMPLITUDE_RAD, self.yaw_rad)
+        if abs(self.yaw_rad) >= self.amplitude_rad:
+            self.yaw_rad = math.copysign(self.amplitude_rad, self.yaw_rad)
             self.direction = -math.copysign(1.0, self.yaw_rad)
             self.reversals += 1
         return self.yaw_rad
@@ -272,3 +281,14 @@ def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float,
         return Pose2D(bx - uy * side * PASS_BALL_SIDE_M - ux * BEHIND_BALL_M / 2,
                       by + ux * side * PASS_BALL_SIDE_M - uy * BEHIND_BALL_M / 2, aim)
     return Pose2D(bx - ux * BEHIND_BALL_M, by - uy * BEHIND_BALL_M, aim)
+
+
+def approach_pose(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> Pose2D:
+    """Where to walk to reach a ball believed at ``ball_xy`` from behind, facing ``aim_xy`` (field
+    frame): the way round it (:func:`behind_ball`), else the spot :data:`BEHIND_BALL_M` behind it."""
+    waypoint = behind_ball(pose, ball_xy, aim_xy)
+    if waypoint is not None:
+        return waypoint
+    bx, by = ball_xy
+    aim = math.atan2(aim_xy[1] - by, aim_xy[0] - bx)
+    return Pose2D(bx - math.cos(aim) * BEHIND_BALL_M, by - math.sin(aim) * BEHIND_BALL_M, aim)

@@ -45,17 +45,23 @@ class TeamModel:
                 fresh.append(Teammate(message, now_s - heard_s))
         return tuple(fresh)
 
-    def team_ball(self, own: BallEstimate | None, now_s: float) -> tuple[BallEstimate, int] | None:
-        """The best ball estimate in the field frame and whose it is (a player number), or None."""
+    def team_ball(
+        self, own: BallEstimate | None, now_s: float, max_age_s: float = BALL_TIMEOUT_S
+    ) -> tuple[BallEstimate, int] | None:
+        """The best ball estimate in the field frame and whose it is (a player number), or None.
+
+        Sightings older than ``max_age_s`` (and than :data:`BALL_TIMEOUT_S`) count for nothing:
+        after a throw-in, for example, every sighting from before it shows a ball that is gone."""
+        max_age_s = min(max_age_s, BALL_TIMEOUT_S)
         candidates: list[tuple[float, int, BallEstimate]] = []
-        if own is not None and own.age_s <= BALL_TIMEOUT_S:
+        if own is not None and own.age_s <= max_age_s:
             candidates.append((_score(own), self.own_player, own))
         for mate in self.teammates(now_s):
             m = mate.message
             if m.ball_xy is None or m.fallen:
                 continue
             age = m.ball_age_s + mate.age_s
-            if age > BALL_TIMEOUT_S:
+            if age > max_age_s:
                 continue
             # Let the reported ball roll on for the time the message took.
             decay = math.exp(-mate.age_s / ROLL_DECAY_S)

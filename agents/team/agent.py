@@ -12,15 +12,20 @@ One step (40 ms) runs, from the observation only:
    its distance, and other robots by their waistbands; landmarks update the self-locator,
    the ball the ball model, robots the obstacle model.
 4. **Game state**: stand in INITIAL, SET and FINISHED (placed at its kick-off pose in
-   INITIAL, so the locator is reset there, and in SET when far from it: the referee placed
-   it); walk to the kick-off pose in READY; stand up after a fall; in a penalty shoot-out,
-   reset at the kicker's or goalkeeper's place when the kick is set.
+   INITIAL, so the locator is reset there, and in SET when it lay fallen or believes it
+   stood where it may not stay: the referee placed it); walk to the kick-off pose in READY; stand up after a fall; in a penalty shoot-out,
+   reset at the kicker's or goalkeeper's place when the kick is set. After a throw-in (the
+   game-control data's drop-in), the balls seen before it are forgotten and the ball is
+   believed at the rule's spot (from where it was last believed and who put it out) until
+   someone sees it.
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
-   goal computed from its pose estimate; the others walk to their role's position; every
-   walk steps around the obstacles but the striker's near its ball.
-6. **Head**: track the ball, glance at a goal when the pose is uncertain, sweep when the
-   ball is lost; the camera is on every other step.
+   goal computed from its pose estimate (a ball believed out: it waits on the throw-in line);
+   the others walk to their role's position; every walk steps around the obstacles but the
+   striker's near its ball.
+6. **Head**: track the ball, glance at a goal when the pose is uncertain; without its own
+   ball, look where the team believes it, else search: a quick look near the feet, then wide
+   sweeps; the camera is on every other step.
 7. **Radio out**: pose, ball, role and intention every :data:`RADIO_EVERY_STEPS` steps.
 
 Variants: the localization method (``method``) and ``avoid_obstacles`` (False: the
@@ -54,15 +59,20 @@ from match.protocol import (
     AgentReport,
     CameraChoice,
     Displacement,
+    DropIn,
     GameState,
     GoalColor,
     KickOff,
     Motion,
     Pose2D,
+    THROW_IN_INSET_M,
+    THROW_IN_MAX_X_M,
     SecondaryState,
     kickoff_pose,
+    legal_kickoff_position,
     make_action,
     penalty_pose,
+    throw_in_spot,
 )
 from world.camera_model import CameraPosition
 from world.field import FIELD
@@ -78,9 +88,9 @@ TRACK_BALL_S = 0.6  # younger than this, the head follows the ball
 GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
 GLANCE_S = 0.8  # ... for this long
 UNCERTAIN_M = 0.25
-PLACED_FAR_M = 0.6  # in SET, farther than this from the kick-off pose: the referee placed it
 UPRIGHT_ACCELERATION_MPS2 = 8.0  # torso z reads g cos(tilt): below this (low-passed) the robot is falling
 UPRIGHT_SMOOTHING = 0.2  # the low-pass weight of a new reading: walking shakes single readings to 6-14 m/s^2
+SETTLED_GYRO_RADPS = 1.0  # a fallen robot turning slower than this lies still: it may choose its stand-up
 FALL_SIGMA_M = 0.2  # a fall adds this much position uncertainty ...
 FALL_SIGMA_RAD = math.radians(60.0)  # ... and this much heading uncertainty (a fall turns the body by up to 90 degrees)
 KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within this (pose estimate)
@@ -93,6 +103,12 @@ FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and wa
 FOLLOW_KICK_MPS = 0.15
 KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
 SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
+OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
+THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out
+DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
+DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
+LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
+SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
 
 
 class TeamAgent:
@@ -123,6 +139,8 @@ class TeamAgent:
         self._defended: GoalColor | None = None
         self._camera = CameraPosition.TOP
         self._sweep = skills.HeadSweep()
+        self._near_sweep = skills.HeadSweep(amplitude_rad=skills.NEAR_SWEEP_AMPLITUDE_RAD)
+        self._sweeping = False  # the head sweeps for the ball (since the last step that did something else)
         self._glance_until_s = -math.inf
         self._next_glance_s = 0.0
         self._own_goal_ahead_s = -math.inf
@@ -136,6 +154,10 @@ class TeamAgent:
         self._seen_landmarks: tuple[int, frozenset[int]] = (-1, frozenset())
         self._believed_balls: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
         self._time_to_ball_s = math.inf
+        self._last_ball_xy: tuple[float, float] | None = None  # the last ball it believed in (field frame)
+        self._drop_in_since_s = math.inf  # the last broadcast's seconds since a throw-in
+        self._drop_in_at_s = -math.inf  # when the last throw-in put the ball back (own clock)
+        self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
 
     @property
     def now_s(self) -> float:
@@ -211,7 +233,12 @@ class TeamAgent:
 
     def _follow_game(self, obs: Observation) -> None:
         """Resets at the kick-off pose (thesis 5.5) when the referee placed the robot there,
-        and at the penalty kicker's or goalkeeper's pose when a shoot-out kick is set."""
+        and at the penalty kicker's or goalkeeper's pose when a shoot-out kick is set; after a
+        throw-in, forgets the balls seen before it (:meth:`_throw_in`)."""
+        since = obs.game.seconds_since_drop_in
+        if since < self._drop_in_since_s:  # the count started again: a new throw-in
+            self._throw_in(obs, since)
+        self._drop_in_since_s = since
         state, defended = obs.game.state, obs.game.defended_goal
         kicking = obs.game.kickoff is KickOff.OWN_TEAM
         if _shootout(obs):
@@ -227,11 +254,26 @@ class TeamAgent:
             self.locator.reset(start)
             self.ball.reset()
         elif state is GameState.SET and self._state is not GameState.SET:
-            if pose is None or math.hypot(pose.x - start.x, pose.y - start.y) > PLACED_FAR_M:
+            # The referee put it at its kick-off pose if it lay fallen or stood where it may not stay.
+            if pose is None or obs.fallen or not legal_kickoff_position(pose.x, pose.y, defended, kicking):
                 self.locator.reset(start)
         elif pose is None:
             self.locator.reset(start)
         self._state, self._defended = state, defended
+
+    def _throw_in(self, obs: Observation, since_s: float) -> None:
+        """The referee put the ball back ``since_s`` ago: every sighting from before is of a ball that
+        is gone, and the rule gives where it is now, from where the ball was last believed to be and
+        from who put it out (game-control data)."""
+        self._drop_in_at_s = self.now_s - since_s
+        if self.ball.age_s > since_s:
+            self.ball.reset()
+        self._drop_in_spot = None
+        if self._last_ball_xy is not None:
+            bx, by = self._last_ball_xy
+            defended = obs.game.defended_goal
+            toucher_defends = {DropIn.OWN_TEAM: defended, DropIn.OPPONENT: defended.other}.get(obs.game.drop_in_team)
+            self._drop_in_spot = throw_in_spot(bx, by, abs(bx) > FIELD.half_length, toucher_defends)
 
     # ---- behaviour -----------------------------------------------------------------------
 
@@ -246,7 +288,7 @@ class TeamAgent:
         assert pose is not None  # reset in _follow_game
         ball_rel = self._own_ball()
         ball_field = self._team_ball(pose, ball_rel)
-        head = self._head(pose, ball_rel)
+        head = self._head(pose, ball_rel, ball_field)
         state = obs.game.state
         if state is GameState.READY:
             self.intention = Intention.POSITION
@@ -279,8 +321,13 @@ class TeamAgent:
         own = None
         if ball_rel is not None:
             own = self.ball.in_field((pose.x, pose.y, pose.theta), self.locator.sigma_m, self.locator.sigma_rad)
-        best = self.team.team_ball(own, self.now_s)
+        best = self.team.team_ball(own, self.now_s, max_age_s=self.now_s - self._drop_in_at_s)
         team = None if best is None else best[0]
+        since_drop_in = self.now_s - self._drop_in_at_s
+        if team is None and self._drop_in_spot is not None and since_drop_in < DROP_IN_SPOT_S:
+            team = BallEstimate(*self._drop_in_spot, 0.0, 0.0, DROP_IN_SPOT_SIGMA_M, since_drop_in)
+        if team is not None:
+            self._last_ball_xy = (team.x, team.y)
         self._believed_balls = (None if own is None else (own.x, own.y), None if team is None else (team.x, team.y))
         return team
 
@@ -306,19 +353,22 @@ class TeamAgent:
 
     def _strike(self, pose: Pose2D, ball_rel: BallEstimate | None, ball_field: BallEstimate | None, attack: float,
                 head: tuple[float, float]) -> tuple[Motion, tuple[float, float, float], tuple[float, float]]:
-        if ball_rel is None:
-            if ball_field is None:
-                self.intention = Intention.SEARCH
-                if self._just_kicked():  # follow the kick before turning round to search
-                    return Motion.WALK, skills.walk_command(FOLLOW_KICK_MPS, 0.0, 0.0), head
-                return Motion.WALK, skills.walk_command(0.0, 0.0, skills.SEARCH_TURN_RADPS), head
-            # A teammate's ball: walk toward it.
-            self.intention = Intention.GO_TO_BALL
-            motion, walk = skills.walk_to(pose, Pose2D(ball_field.x, ball_field.y, pose.theta))
-            return motion, walk, head
+        if ball_rel is None and ball_field is None:
+            self.intention = Intention.SEARCH
+            if self._just_kicked():  # follow the kick before turning round to search
+                return Motion.WALK, skills.walk_command(FOLLOW_KICK_MPS, 0.0, 0.0), head
+            if not self._near_sweep.swept:  # the head looks near the feet first: stand while it does
+                return Motion.STAND, skills.STILL, head
+            return Motion.WALK, skills.walk_command(0.0, 0.0, skills.SEARCH_TURN_RADPS), head
         self.intention = Intention.GO_TO_BALL
         goal_x = FIELD.half_length * attack
-        ball_xy = _in_field(pose, ball_rel)
+        ball_xy = (ball_field.x, ball_field.y) if ball_rel is None else _in_field(pose, ball_rel)
+        if _out_of_field(ball_xy):  # the referee will put it on the throw-in line: wait there
+            motion, walk = skills.walk_to(pose, _throw_in_wait_pose(ball_xy, attack))
+            return motion, walk, head
+        if ball_rel is None:  # the team's ball (a teammate's, or a throw-in's spot): come at it from behind
+            motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, (goal_x, 0.0)))
+            return motion, walk, head
         waypoint = skills.behind_ball(pose, ball_xy, (goal_x, 0.0))
         if waypoint is not None:
             motion, walk = skills.walk_to(pose, waypoint)
@@ -333,8 +383,10 @@ class TeamAgent:
         return motion, walk, head
 
     def _stand_up(self, obs: Observation) -> Motion:
-        """The stand-up for the side it lies on (the accelerometer); lying on a flank the reading is
-        unsure, so when a stand-up tried in this fall left it down, the other one."""
+        """The stand-up for the side it lies on (the accelerometer), once it lies still; lying on a flank
+        the reading is unsure, so when a stand-up tried in this fall left it down, the other one."""
+        if math.hypot(*obs.gyro_radps) > SETTLED_GYRO_RADPS:  # still tumbling: the side it lies on is not known yet
+            return Motion.STAND
         last = obs.last_motion
         if last is not None and last.is_stand_up and obs.last_motion_sequence > self._fall_sequence:
             return Motion.STAND_UP_FROM_FRONT if last is Motion.STAND_UP_FROM_BACK else Motion.STAND_UP_FROM_BACK
@@ -365,28 +417,45 @@ class TeamAgent:
             return False
         return True
 
-    def _head(self, pose: Pose2D, ball_rel: BallEstimate | None) -> tuple[float, float]:
+    def _head(self, pose: Pose2D, ball_rel: BallEstimate | None, ball_field: BallEstimate | None
+              ) -> tuple[float, float]:
         now = self.now_s
+        sweeping, self._sweeping = self._sweeping, False  # set again below while the sweep goes on
         if self.locator.sigma_m > UNCERTAIN_M and now >= self._next_glance_s:
             self._glance_until_s = now + GLANCE_S
             self._next_glance_s = now + GLANCE_EVERY_S
         if now < self._glance_until_s:
             return self._glance(pose)
         if ball_rel is not None and ball_rel.age_s <= TRACK_BALL_S:
-            if ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
-                self._camera = CameraPosition.BOTTOM
-            elif ball_rel.distance_m > skills.TOP_CAMERA_BEYOND_M:
-                self._camera = CameraPosition.TOP
-            return skills.look_at(ball_rel, self._camera)
+            return self._look_at(ball_rel)
         if self._just_kicked():  # the ball rolled off ahead
             self._camera = CameraPosition.TOP
             return 0.0, skills.SCAN_PITCH_RAD
+        if ball_rel is None and ball_field is not None and now % SEARCH_CYCLE_S < LOOK_FOR_TEAM_BALL_S:
+            return self._look_at(_relative(pose, ball_field))
+        self._sweeping = True
+        if not sweeping:  # a new search: first a quick look near the feet
+            self._near_sweep.restart(0.0, 1.0)
+        if not self._near_sweep.swept:
+            self._camera = CameraPosition.BOTTOM
+            yaw = self._near_sweep.advance(skills.NEAR_SWEEP_RATE_RADPS)
+            if self._near_sweep.swept:  # the wide sweep goes on from where the near one ended
+                self._sweep.restart(yaw, self._near_sweep.direction)
+            return yaw, skills.NEAR_SCAN_PITCH_RAD
         yaw = self._sweep.advance(skills.SEARCH_SCAN_RATE_RADPS)
         if self._sweep.reversals % 2 == 1:
             self._camera = CameraPosition.BOTTOM
             return yaw, skills.NEAR_SCAN_PITCH_RAD
         self._camera = CameraPosition.TOP
         return yaw, skills.SCAN_PITCH_RAD
+
+    def _look_at(self, ball: BallEstimate) -> tuple[float, float]:
+        """Head angles that centre a ball (torso frame), with the camera that sees it at its distance."""
+        if ball.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
+            self._camera = CameraPosition.BOTTOM
+        elif ball.distance_m > skills.TOP_CAMERA_BEYOND_M:
+            self._camera = CameraPosition.TOP
+        return skills.look_at(ball, self._camera)
 
     def _glance(self, pose: Pose2D) -> tuple[float, float]:
         """Look at the nearer goal's centre with the top camera (its posts are the surest landmarks)."""
@@ -456,6 +525,27 @@ def _on_target(heading_rad: float, ball_xy: tuple[float, float], goal_x: float) 
 
 def _shootout(obs: Observation) -> bool:
     return obs.game.secondary is SecondaryState.PENALTY_SHOOTOUT
+
+
+def _out_of_field(ball_xy: tuple[float, float]) -> bool:
+    """Whether a ball believed at ``ball_xy`` (field frame) is over a side or end line (by :data:`OUT_MARGIN_M`)."""
+    return abs(ball_xy[0]) > FIELD.half_length + OUT_MARGIN_M or abs(ball_xy[1]) > FIELD.half_width + OUT_MARGIN_M
+
+
+def _throw_in_wait_pose(ball_xy: tuple[float, float], attack: float) -> Pose2D:
+    """Where a striker waits while the ball is out: on the throw-in line, a little on the own side of
+    where the ball went out (the referee puts it back 1 m toward the goal of the team that touched it
+    last), facing the opponent goal."""
+    x = min(max(ball_xy[0] - attack * THROW_IN_WAIT_BACK_M, -THROW_IN_MAX_X_M), THROW_IN_MAX_X_M)
+    y = math.copysign(FIELD.half_width - THROW_IN_INSET_M, ball_xy[1])
+    return Pose2D(x, y, 0.0 if attack > 0 else math.pi)
+
+
+def _relative(pose: Pose2D, ball: BallEstimate) -> BallEstimate:
+    """A field-frame ball in the torso frame of ``pose``."""
+    dx, dy = ball.x - pose.x, ball.y - pose.y
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    return BallEstimate(c * dx + s * dy, -s * dx + c * dy, 0.0, 0.0, ball.sigma_m, ball.age_s)
 
 
 def _in_field(pose: Pose2D, rel: BallEstimate) -> tuple[float, float]:

@@ -5,12 +5,28 @@ Pure Python (no pybullet): agents may import this package and nothing else of ``
 
 from match.errors import InvalidActionError, RadioPacketError, UnknownAgentError
 from match.protocol.actions import ACTION_KEYS, STAND, Action, make_action, parse_action
-from match.protocol.game_control import GameControlData, GameControlView, GameState, KickOff, SecondaryState
+from match.protocol.game_control import DropIn, GameControlData, GameControlView, GameState, KickOff, SecondaryState
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side, roster
-from match.protocol.kickoff import DEFENDING_POSITIONS, KICKING_POSITIONS, kickoff_pose, penalty_pose
+from match.protocol.kickoff import (
+    DEFENDING_POSITIONS,
+    KICKING_POSITIONS,
+    kickoff_pose,
+    legal_kickoff_position,
+    penalty_pose,
+)
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
 from match.protocol.policy import AgentReport, AgentReporter, Policy, PoseReporter, PoseTuple
-from match.protocol.spaces import MOTIONS, NO_MOTION, WALK_HIGH, WALK_LOW, CameraChoice, action_space, observation_space
+from match.protocol.spaces import (
+    MAX_SECONDS,
+    MOTIONS,
+    NO_MOTION,
+    WALK_HIGH,
+    WALK_LOW,
+    CameraChoice,
+    action_space,
+    observation_space,
+)
+from match.protocol.throw_in import THROW_IN_INSET_M, THROW_IN_MAX_X_M, throw_in_spot
 from world.field import GoalColor, Pose2D
 from world.motions import Displacement, Motion
 from world.teams import TeamColor
@@ -21,10 +37,13 @@ __all__ = [
     "INBOX_CAPACITY",
     "KICKING_POSITIONS",
     "MAX_PACKET_BYTES",
+    "MAX_SECONDS",
     "MAX_PLAYERS_PER_TEAM",
     "MOTIONS",
     "NO_MOTION",
     "STAND",
+    "THROW_IN_INSET_M",
+    "THROW_IN_MAX_X_M",
     "WALK_HIGH",
     "WALK_LOW",
     "Action",
@@ -33,6 +52,7 @@ __all__ = [
     "AgentReporter",
     "CameraChoice",
     "Displacement",
+    "DropIn",
     "GameControlData",
     "GameControlView",
     "GameState",
@@ -52,9 +72,11 @@ __all__ = [
     "UnknownAgentError",
     "action_space",
     "kickoff_pose",
+    "legal_kickoff_position",
     "penalty_pose",
     "make_action",
     "observation_space",
     "parse_action",
     "roster",
+    "throw_in_spot",
 ]

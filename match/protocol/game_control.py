@@ -7,6 +7,7 @@ turns it into one robot's view (own/opponent), which is what observations carry.
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass
 
 from match.protocol.ids import Side
@@ -37,6 +38,15 @@ class KickOff(enum.IntEnum):
     NONE = 2
 
 
+class DropIn(enum.IntEnum):
+    """Which team put the ball out before the last throw-in (the SPL's drop-in team), from one
+    robot's point of view; NONE when nobody touched it or there was no throw-in this half."""
+
+    OWN_TEAM = 0
+    OPPONENT = 1
+    NONE = 2
+
+
 @dataclass(frozen=True)
 class GameControlData:
     """One broadcast of the referee.
@@ -45,6 +55,9 @@ class GameControlData:
     PLAYING). ``half`` is 1 or 2 (the shoot-out keeps 2). ``home_defends`` is the goal the
     home team defends now (it changes at half-time and between shoot-out kicks).
     ``score`` counts goals of normal play; ``shootout_score`` the shoot-out's.
+    ``drop_in_team`` is the side that put the ball out before the last throw-in (None: nobody
+    touched it, or no throw-in yet this half); ``seconds_since_drop_in`` the simulated time
+    since the referee put the ball back (inf when there was none this half).
     """
 
     state: GameState
@@ -57,6 +70,8 @@ class GameControlData:
     home_color: TeamColor
     home_defends: GoalColor
     time_s: float  # simulated time of the broadcast
+    drop_in_team: Side | None = None
+    seconds_since_drop_in: float = math.inf
 
     def color_of(self, side: Side) -> TeamColor:
         return self.home_color if side is Side.HOME else self.home_color.other
@@ -69,6 +84,10 @@ class GameControlData:
             kickoff = KickOff.NONE
         else:
             kickoff = KickOff.OWN_TEAM if self.kickoff is side else KickOff.OPPONENT
+        if self.drop_in_team is None:
+            drop_in = DropIn.NONE
+        else:
+            drop_in = DropIn.OWN_TEAM if self.drop_in_team is side else DropIn.OPPONENT
         own, opponent = (0, 1) if side is Side.HOME else (1, 0)
         return GameControlView(
             state=self.state,
@@ -82,6 +101,8 @@ class GameControlData:
             half=self.half,
             team_color=self.color_of(side),
             defended_goal=self.defended_goal(side),
+            drop_in_team=drop_in,
+            seconds_since_drop_in=self.seconds_since_drop_in,
         )
 
 
@@ -100,6 +121,8 @@ class GameControlView:
     half: int
     team_color: TeamColor
     defended_goal: GoalColor
+    drop_in_team: DropIn = DropIn.NONE
+    seconds_since_drop_in: float = math.inf  # since the last throw-in's placement (inf: none this half)
 
     @property
     def attacked_goal(self) -> GoalColor:

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import math
 
-from world.field import FIELD, GoalColor, Pose2D
+from world.field import FIELD, FieldGeometry, GoalColor, Pose2D
 
+LEGAL_POSITION_TOLERANCE_M = 0.05  # slack on half and circle limits at SET
 GOALKEEPER_LINE_X_M = 2.85  # |x| (m) of a goalkeeper placed on its goal line, 0.15 m inside the 3 m line
 
 # (x m, y m, theta rad) for the team defending the blue goal, by player number.
@@ -53,3 +54,19 @@ def penalty_pose(kicker: bool, defended_goal: GoalColor) -> Pose2D:
     if defended_goal is GoalColor.BLUE:
         return Pose2D(x, y, theta)
     return Pose2D(-x, -y, math.pi)
+
+
+def legal_kickoff_position(
+    x: float, y: float, defended: GoalColor, kicking: bool, field: FieldGeometry = FIELD
+) -> bool:
+    """Whether a robot at (x, y) (field frame, m) may stay there when SET begins; the referee puts
+    every other robot (and every fallen one) at its kick-off position.
+
+    Everyone must be on the field in its own half; robots of the defending team must also be
+    outside the centre circle.
+    """
+    tol = LEGAL_POSITION_TOLERANCE_M
+    on_field = abs(x) <= field.half_length + tol and abs(y) <= field.half_width + tol
+    own_half = defended.sign * x >= -tol
+    outside_circle = math.hypot(x, y) >= field.center_circle_radius - tol
+    return on_field and own_half and (kicking or outside_circle)

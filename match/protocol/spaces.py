@@ -13,7 +13,9 @@ Observation (a dict):
   ``last_motion``, ``last_motion_sequence`` (increases by one per finished motion),
   ``last_motion_completed`` and ``odometry``: the nominal (forward m, left m, turn rad)
   of the last finished motion, in the robot frame at that motion's start.
-- ``game``: the robot's view of the last game-control broadcast.
+- ``game``: the robot's view of the last game-control broadcast (``drop_in_team`` and
+  ``seconds_since_drop_in``: who put the ball out before the last throw-in and how long ago
+  the referee put it back, :data:`MAX_SECONDS` when there was none this half).
 - ``radio``: the inbox (packets from teammates delivered this step) and ``dropped``, the
   number of the robot's own packets not sent since its last observation (over budget).
 
@@ -31,7 +33,7 @@ import enum
 import numpy as np
 from gymnasium import spaces
 
-from match.protocol.game_control import GameState, KickOff, SecondaryState
+from match.protocol.game_control import DropIn, GameState, KickOff, SecondaryState
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
@@ -93,6 +95,8 @@ def observation_space() -> spaces.Dict:
             "team_color": spaces.Discrete(2),  # 0 blue, 1 red
             "defended_goal": spaces.Discrete(2),  # 0 blue (x = -3), 1 yellow (x = +3)
             "player": spaces.Discrete(MAX_PLAYERS_PER_TEAM),
+            "drop_in_team": spaces.Discrete(len(DropIn)),  # who put the ball out before the last throw-in
+            "seconds_since_drop_in": _box(0.0, MAX_SECONDS, ()),  # MAX_SECONDS: no throw-in this half
         }
     )
     radio = spaces.Dict(

@@ -41,7 +41,12 @@ TABLE_STATISTICS = (  # (key, header, format) of the per-policy means in table.m
     ("radio_dropped", "radio dropped", ".1f"), ("faults", "faults", ".1f"),
     ("position_error_mean_m", "position error mean / p95 (m)", ".3f"),
     ("orientation_error_mean_deg", "orientation error mean / p95 (deg)", ".1f"),
-    ("lost_share", "lost share", ".3f"), ("longest_still_s", "longest still (s)", ".1f"),
+    ("lost_share", "lost share", ".3f"),
+    ("field_position_error_mean_m", "field players: position error mean / p95 (m)", ".3f"),
+    ("field_orientation_error_mean_deg", "field players: orientation error mean / p95 (deg)", ".1f"),
+    ("field_lost_share", "field players: lost share", ".3f"),
+    ("longest_still_s", "longest still (s)", ".1f"),
+    ("longest_still_field_s", "field player still (s)", ".1f"),
 )
 
 
