@@ -52,7 +52,8 @@ class RenderConfig:
     specular: float = 0.0
     near_m: float = 0.01
     far_m: float = 20.0
-    analytic_ground: bool = True  # draw the ground plane in numpy (world.ground); False: all TinyRenderer
+    # Draw the static scene (ground, walls, banners, roof) in numpy (world.ground); False: all by TinyRenderer.
+    analytic_ground: bool = True
 
 
 @dataclass(frozen=True)

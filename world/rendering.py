@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
+import cv2
 import numpy as np
 import pybullet as pb
 
@@ -44,6 +46,43 @@ def look_at(eye, target, up) -> tuple[np.ndarray, np.ndarray]:
     return np.stack([right, down, forward], axis=1), position
 
 
+@functools.lru_cache(maxsize=16)
+def _projection(vertical_fov_rad: float, aspect: float, near_m: float, far_m: float) -> tuple[float, ...]:
+    fov_deg = math.degrees(vertical_fov_rad)
+    return pb.computeProjectionMatrixFOV(fov=fov_deg, aspect=aspect, nearVal=near_m, farVal=far_m)
+
+
+def tiny_renderer_buffers(
+    client: int,
+    rotation: np.ndarray,
+    position: np.ndarray,
+    width_px: int,
+    height_px: int,
+    vertical_fov_rad: float,
+    render_config: RenderConfig,
+    segmentation: bool = False,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """TinyRenderer's buffers for a camera pose, square pixels: RGBA (h, w, 4) uint8, depth (h, w)
+    float32 and, with ``segmentation``, pybullet's object-and-link mask (h, w) (else None)."""
+    _, _, rgba, depth, mask = pb.getCameraImage(
+        width_px,
+        height_px,
+        viewMatrix=view_matrix(rotation, position),
+        projectionMatrix=_projection(vertical_fov_rad, width_px / height_px, render_config.near_m, render_config.far_m),
+        lightDirection=render_config.light_direction,
+        lightAmbientCoeff=render_config.ambient,
+        lightDiffuseCoeff=render_config.diffuse,
+        lightSpecularCoeff=render_config.specular,
+        shadow=0,
+        renderer=pb.ER_TINY_RENDERER,
+        flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX if segmentation else pb.ER_NO_SEGMENTATION_MASK,
+        physicsClientId=client,
+    )
+    rgba = np.reshape(rgba, (height_px, width_px, 4))
+    labels = np.reshape(mask, (height_px, width_px)) if segmentation else None
+    return rgba, np.reshape(depth, (height_px, width_px)), labels
+
+
 def camera_buffers(
     client: int,
     rotation: np.ndarray,
@@ -54,31 +93,11 @@ def camera_buffers(
     render_config: RenderConfig,
     segmentation: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """TinyRenderer's buffers for a camera pose, square pixels: RGB (h, w, 3) uint8, depth (h, w)
-    and, with ``segmentation``, pybullet's object-and-link mask (h, w) (else None)."""
-    projection = pb.computeProjectionMatrixFOV(
-        fov=math.degrees(vertical_fov_rad),
-        aspect=width_px / height_px,
-        nearVal=render_config.near_m,
-        farVal=render_config.far_m,
+    """As :func:`tiny_renderer_buffers`, with the image as RGB (h, w, 3) uint8."""
+    rgba, depth, labels = tiny_renderer_buffers(
+        client, rotation, position, width_px, height_px, vertical_fov_rad, render_config, segmentation
     )
-    _, _, rgba, depth, mask = pb.getCameraImage(
-        width_px,
-        height_px,
-        viewMatrix=view_matrix(rotation, position),
-        projectionMatrix=projection,
-        lightDirection=render_config.light_direction,
-        lightAmbientCoeff=render_config.ambient,
-        lightDiffuseCoeff=render_config.diffuse,
-        lightSpecularCoeff=render_config.specular,
-        shadow=0,
-        renderer=pb.ER_TINY_RENDERER,
-        flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX if segmentation else pb.ER_NO_SEGMENTATION_MASK,
-        physicsClientId=client,
-    )
-    image = np.ascontiguousarray(np.reshape(rgba, (height_px, width_px, 4))[:, :, :3], dtype=np.uint8)
-    labels = np.reshape(mask, (height_px, width_px)) if segmentation else None
-    return image, np.reshape(depth, (height_px, width_px)), labels
+    return cv2.cvtColor(np.ascontiguousarray(rgba, np.uint8), cv2.COLOR_RGBA2RGB), depth, labels
 
 
 def focal_length_px(height_px: int, vertical_fov_rad: float) -> float:
@@ -97,13 +116,15 @@ def render(
 ) -> np.ndarray:
     """Render one RGB image (height, width, 3) uint8 from a camera pose, square pixels.
 
-    With ``ground``, TinyRenderer draws the bodies and the ground plane is composited in
-    analytically (the scene's ground visuals must then be hidden, see :mod:`world.ground`).
+    With ``ground``, TinyRenderer draws the bodies and the static scene is composited in
+    analytically (the scene's visuals must then be hidden, see :mod:`world.ground`).
     """
-    image, depth, _ = camera_buffers(client, rotation, position, width_px, height_px, vertical_fov_rad, render_config)
-    if ground is not None:
-        ground.composite(image, depth, rotation, position, focal_length_px(height_px, vertical_fov_rad))
-    return image
+    if ground is None:
+        return camera_buffers(client, rotation, position, width_px, height_px, vertical_fov_rad, render_config)[0]
+    rgba, depth, _ = tiny_renderer_buffers(
+        client, rotation, position, width_px, height_px, vertical_fov_rad, render_config
+    )
+    return ground.composite(rgba, depth, rotation, position, focal_length_px(height_px, vertical_fov_rad))
 
 
 def render_robot_camera(

@@ -1,7 +1,9 @@
 """The static scene: carpet with painted lines, goals, the floor, walls and banners around.
 
 Static geometry is merged into few bodies (one per colour), because TinyRenderer's cost
-grows with the number of shapes and with the screen area each triangle's box covers.
+grows with the number of shapes and with the screen area each triangle's box covers. The
+hall's quads (walls, roof, banners) come from functions that :mod:`world.backdrop` reads
+too, so the analytic drawing and TinyRenderer's draw the same geometry.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from world.field import FieldGeometry, GoalColor
 from world.textures import carpet_texture_file
 
 GOAL_RGBA = {GoalColor.BLUE: (0.1, 0.25, 0.95, 1.0), GoalColor.YELLOW: (0.95, 0.85, 0.1, 1.0)}
-FLOOR_RGBA = (0.45, 0.42, 0.4, 1.0)
+FLOOR_RGBA = (0.451, 0.42, 0.4, 1.0)  # red: 255 * 0.451 truncates to 115, not 114
 WALL_RGBA = (0.28, 0.3, 0.38, 1.0)
 BANNER_RGBA = (0.93, 0.93, 0.9, 1.0)
 SKY_RGBA = (0.55, 0.62, 0.75, 1.0)
@@ -26,6 +28,11 @@ BANNER_HEIGHT_M = 0.5
 BANNER_BOTTOM_M = 0.35
 CARPET_TILES = (4, 3)  # smaller triangles cut TinyRenderer's per-triangle bounding-box cost
 GOAL_FRAME_RADIUS_M = 0.02
+WALL_OVERLAP_M = 0.05  # walls reach this far below the floor and past the corners: no cracks
+BANNER_INSET_M = 0.01  # banners hang this far in front of their wall
+
+Quad = tuple[tuple[float, float, float], ...]
+"""Four corners (x, y, z) m, counter-clockwise seen from the front (the side that is drawn)."""
 
 
 @dataclass(frozen=True)
@@ -35,14 +42,20 @@ class SceneBodies:
     floor: int
     goals: dict[GoalColor, int]
     surroundings: int
+    roof: int
     banners: int
 
     floor_half_extent: tuple[float, float]
 
     @property
-    def ground_visuals(self) -> tuple[int, int]:
-        """Bodies that draw the plane z = 0 (see :mod:`world.ground`)."""
-        return self.carpet, self.floor
+    def ground_visuals(self) -> tuple[int, ...]:
+        """Bodies that :mod:`world.ground` draws analytically instead: ground, walls, roof, banners."""
+        return self.carpet, self.floor, self.surroundings, self.roof, self.banners
+
+
+def hall_half_extent(field: FieldGeometry) -> tuple[float, float]:
+    """Half length and half width (m) of the hall's floor, out to the walls."""
+    return field.carpet_half_length + WALL_GAP_M, field.carpet_half_width + WALL_GAP_M
 
 
 def build_scene(client: int, field: FieldGeometry) -> SceneBodies:
@@ -52,14 +65,19 @@ def build_scene(client: int, field: FieldGeometry) -> SceneBodies:
     pb.changeDynamics(ground, -1, lateralFriction=0.8, restitution=0.0, physicsClientId=client)
     # Collision only: the carpet and floor are drawn; a visible plane would double the fill.
     pb.changeVisualShape(ground, -1, rgbaColor=(0, 0, 0, 0), physicsClientId=client)
+    carpet = _build_carpet(client, field)
+    floor = _build_floor(client, field)
+    goals = {color: _build_goal(client, field, color) for color in GoalColor}
+    roof = _static_quads(client, [roof_quad(field)], SKY_RGBA)
     return SceneBodies(
         ground=ground,
-        carpet=_build_carpet(client, field),
-        floor=_build_floor(client, field),
-        goals={color: _build_goal(client, field, color) for color in GoalColor},
-        surroundings=_build_surroundings(client, field),
-        banners=_build_banners(client, field),
-        floor_half_extent=(field.carpet_half_length + WALL_GAP_M, field.carpet_half_width + WALL_GAP_M),
+        carpet=carpet,
+        floor=floor,
+        goals=goals,
+        surroundings=_build_walls(client, field),
+        roof=roof,
+        banners=_static_quads(client, banner_quads(field), BANNER_RGBA),
+        floor_half_extent=hall_half_extent(field),
     )
 
 
@@ -148,7 +166,7 @@ def _build_goal(client: int, field: FieldGeometry, color: GoalColor) -> int:
 def _build_floor(client: int, field: FieldGeometry) -> int:
     """The hall's floor between the carpet and the walls: four strips facing up."""
     hx, hy = field.carpet_half_length, field.carpet_half_width
-    ox, oy = hx + WALL_GAP_M, hy + WALL_GAP_M
+    ox, oy = hall_half_extent(field)
     floor_z = -0.002
     floor = [  # four strips between the carpet edge and the walls, facing up
         ((-ox, hy, floor_z), (ox, hy, floor_z), (ox, oy, floor_z), (-ox, oy, floor_z)),
@@ -159,47 +177,52 @@ def _build_floor(client: int, field: FieldGeometry) -> int:
     return _static_quads(client, floor, FLOOR_RGBA)
 
 
-def _build_surroundings(client: int, field: FieldGeometry) -> int:
-    """The four walls and the roof of the hall, as one-sided quads.
-
-    Boxes would be drawn with their back faces too (TinyRenderer does not cull), doubling
-    the fill cost; the walls also collide, so a ball cannot leave the hall.
-    """
-    hx, hy = field.carpet_half_length, field.carpet_half_width
-    ox, oy = hx + WALL_GAP_M, hy + WALL_GAP_M
-    top = WALL_HEIGHT_M
-    low, e = -0.05, 0.05  # walls reach below the floor and past the corners: no cracks
-    walls = [  # facing the field
+def wall_quads(field: FieldGeometry) -> list[Quad]:
+    """The hall's four walls, facing the field, from below the floor to ``WALL_HEIGHT_M``."""
+    ox, oy = hall_half_extent(field)
+    top, low, e = WALL_HEIGHT_M, -WALL_OVERLAP_M, WALL_OVERLAP_M
+    return [
         ((-ox - e, oy, low), (ox + e, oy, low), (ox + e, oy, top), (-ox - e, oy, top)),
         ((ox + e, -oy, low), (-ox - e, -oy, low), (-ox - e, -oy, top), (ox + e, -oy, top)),
         ((ox, oy + e, low), (ox, -oy - e, low), (ox, -oy - e, top), (ox, oy + e, top)),
         ((-ox, -oy - e, low), (-ox, oy + e, low), (-ox, oy + e, top), (-ox, -oy - e, top)),
     ]
-    # The hall's roof, so a camera looking up sees sky colour, not TinyRenderer's white.
-    _static_quads(client, [((-ox - e, oy + e, top), (ox + e, oy + e, top), (ox + e, -oy - e, top), (-ox - e, -oy - e, top))], SKY_RGBA)
-    wall_t = 0.05
-    collision = pb.createCollisionShapeArray(
-        shapeTypes=[pb.GEOM_BOX] * 4,
-        halfExtents=[(ox, wall_t, top / 2), (ox, wall_t, top / 2), (wall_t, oy, top / 2), (wall_t, oy, top / 2)],
-        collisionFramePositions=[(0, oy + wall_t, top / 2), (0, -oy - wall_t, top / 2), (ox + wall_t, 0, top / 2), (-ox - wall_t, 0, top / 2)],
-        physicsClientId=client,
-    )
-    return _static_quads(client, walls, WALL_RGBA, collision)
 
 
-def _build_banners(client: int, field: FieldGeometry) -> int:
+def roof_quad(field: FieldGeometry) -> Quad:
+    """The hall's roof, facing down, so a camera looking up sees sky colour, not TinyRenderer's white."""
+    ox, oy = hall_half_extent(field)
+    top, e = WALL_HEIGHT_M, WALL_OVERLAP_M
+    return (-ox - e, oy + e, top), (ox + e, oy + e, top), (ox + e, -oy - e, top), (-ox - e, -oy - e, top)
+
+
+def banner_quads(field: FieldGeometry) -> list[Quad]:
     """Light advertising boards on the walls, which a camera can mistake for white."""
-    ox = field.carpet_half_length + WALL_GAP_M - 0.01
-    oy = field.carpet_half_width + WALL_GAP_M - 0.01
+    ox, oy = (half - BANNER_INSET_M for half in hall_half_extent(field))
     z0, z1 = BANNER_BOTTOM_M, BANNER_BOTTOM_M + BANNER_HEIGHT_M
-    quads = []
+    quads: list[Quad] = []
     for x in (-3.0, -1.0, 1.0, 3.0):
         quads.append(((x - 0.7, oy, z0), (x + 0.7, oy, z0), (x + 0.7, oy, z1), (x - 0.7, oy, z1)))
         quads.append(((x + 0.7, -oy, z0), (x - 0.7, -oy, z0), (x - 0.7, -oy, z1), (x + 0.7, -oy, z1)))
     for y in (-2.2, 2.2):
         quads.append(((ox, y + 0.8, z0), (ox, y - 0.8, z0), (ox, y - 0.8, z1), (ox, y + 0.8, z1)))
         quads.append(((-ox, y - 0.8, z0), (-ox, y + 0.8, z0), (-ox, y + 0.8, z1), (-ox, y - 0.8, z1)))
-    return _static_quads(client, quads, BANNER_RGBA)
+    return quads
+
+
+def _build_walls(client: int, field: FieldGeometry) -> int:
+    """The four walls as one-sided quads (boxes would add faces never seen); they collide, so a ball stays in."""
+    ox, oy = hall_half_extent(field)
+    top, wall_t = WALL_HEIGHT_M, 0.05
+    collision = pb.createCollisionShapeArray(
+        shapeTypes=[pb.GEOM_BOX] * 4,
+        halfExtents=[(ox, wall_t, top / 2), (ox, wall_t, top / 2), (wall_t, oy, top / 2), (wall_t, oy, top / 2)],
+        collisionFramePositions=[
+            (0, oy + wall_t, top / 2), (0, -oy - wall_t, top / 2), (ox + wall_t, 0, top / 2), (-ox - wall_t, 0, top / 2)
+        ],
+        physicsClientId=client,
+    )
+    return _static_quads(client, wall_quads(field), WALL_RGBA, collision)
 
 
 def _static_quads(client: int, quads, rgba, collision: int = -1) -> int:
