@@ -209,3 +209,27 @@ def test_after_a_throw_in_it_looks_for_the_ball_where_the_rule_put_it() -> None:
     report = step(1, DropIn.OWN_TEAM, 0.3)
     assert report.team_ball_xy == pytest.approx(throw_in_spot(1.0, 2.3, False, GoalColor.BLUE), abs=0.05)
     assert report.team_ball_xy == pytest.approx((0.0, 1.6), abs=0.05)
+
+
+def test_the_striker_at_its_way_round_the_ball_walks_on_behind_it() -> None:
+    """Near enough to the way round the ball (within the walk's arrival tolerance) but not yet where
+    the ball is behind, the striker walks on to the spot behind the ball instead of standing."""
+    from agents.behavior import skills
+
+    ball, goal = (0.0, -1.6), (-3.0, 0.0)
+    pose = Pose2D(0.33, -1.21, math.radians(149.0))  # a striker found standing here for 70 s
+    waypoint = skills.behind_ball(pose, ball, goal)
+    assert waypoint is not None and skills.walk_to(pose, waypoint)[0] is Motion.STAND
+    motion, walk = skills.walk_to(pose, skills.behind_point(ball, goal))
+    assert motion is Motion.WALK and any(walk)
+    agent = TeamAgent()
+    agent.reset("home_3", 0)
+    rel = BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.05, 0.0)
+    motion, walk, _ = agent._strike(pose, rel, None, -1.0, (0.0, 0.0))
+    assert motion is Motion.WALK and any(walk)
+
+
+def _to_robot(pose: Pose2D, xy: tuple[float, float]) -> tuple[float, float]:
+    dx, dy = xy[0] - pose.x, xy[1] - pose.y
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    return c * dx + s * dy, -s * dx + c * dy

@@ -13,7 +13,9 @@ from agents.modelling.self_locator import DOUBT_SIGMA_M, JUMP_CONFIRMATIONS, Sel
 from agents.modelling.team_model import MESSAGE_TIMEOUT_S, TeamModel
 from agents.team.agent import _arc
 from agents.team.messages import Role, TeamMessage
-from match.protocol import Displacement, Pose2D
+from agents.vision.percepts import LandmarkPercept
+from match.protocol import Displacement, GoalColor, Pose2D
+from world.field import LandmarkKind
 
 STILL = Displacement(0.0, 0.0, 0.0)
 
@@ -129,19 +131,32 @@ class _FixedLocalizer:
         return PoseEstimate(self.fix.x, self.fix.y, self.fix.theta, "fixed", EstimateSource.LANDMARKS)
 
 
-def test_a_far_fix_is_believed_only_when_several_agree() -> None:
+LINE_CORNER = LandmarkPercept(LandmarkKind.L_CORNER, (80.0, 90.0), 0.1, 1.5, "exact")
+GOAL_POST = LandmarkPercept(LandmarkKind.GOAL_POST, (80.0, 40.0), 0.2, 3.0, "exact", goal=GoalColor.YELLOW)
+
+
+def test_a_far_fix_is_believed_only_when_several_agree_and_one_saw_a_goal() -> None:
     locator = SelfLocator("odometry", 0)
     mirrored = Pose2D(1.0, -0.5, math.pi)
     locator.localizer = stand_in = _FixedLocalizer(mirrored)
     locator.reset(Pose2D(-1.0, 0.5, 0.0))
-    percepts = ("a percept",)  # the stand-in does not read them
-    for _ in range(JUMP_CONFIRMATIONS - 1):
-        assert locator.update(percepts) is None
+    for _ in range(JUMP_CONFIRMATIONS + 3):  # lines alone repeat over the field: never enough
+        assert locator.update((LINE_CORNER,)) is None
         assert locator.pose == Pose2D(-1.0, 0.5, 0.0)
     assert stand_in.resets == 1  # the localizer is left to itself: if it keeps finding the far pose, it wins
     assert locator.sigma_m >= DOUBT_SIGMA_M  # meanwhile the robot doubts, and looks for landmarks
-    assert locator.update(percepts) is not None
-    assert locator.pose == mirrored and locator.rejected_fixes == JUMP_CONFIRMATIONS - 1
+    assert locator.update((LINE_CORNER, GOAL_POST)) is not None
+    assert locator.pose == mirrored and locator.rejected_fixes == JUMP_CONFIRMATIONS + 3
+
+
+def test_agreeing_far_fixes_with_a_goal_are_believed_after_enough_of_them() -> None:
+    locator = SelfLocator("odometry", 0)
+    mirrored = Pose2D(1.0, -0.5, math.pi)
+    locator.localizer = _FixedLocalizer(mirrored)
+    locator.reset(Pose2D(-1.0, 0.5, 0.0))
+    for _ in range(JUMP_CONFIRMATIONS - 1):
+        assert locator.update((GOAL_POST,)) is None
+    assert locator.update((GOAL_POST,)) is not None and locator.pose == mirrored
 
 
 def test_after_a_fall_a_fix_may_turn_the_heading_at_once() -> None:
@@ -151,4 +166,4 @@ def test_after_a_fall_a_fix_may_turn_the_heading_at_once() -> None:
     locator.reset(Pose2D(-1.0, 0.5, 0.0))
     locator.fell(0.2, math.radians(60.0))
     assert stand_in.widened == 1
-    assert locator.update(("a percept",)) is not None and locator.pose == turned
+    assert locator.update((LINE_CORNER,)) is not None and locator.pose == turned

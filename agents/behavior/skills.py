@@ -287,8 +287,11 @@ def approach_pose(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[floa
     """Where to walk to reach a ball believed at ``ball_xy`` from behind, facing ``aim_xy`` (field
     frame): the way round it (:func:`behind_ball`), else the spot :data:`BEHIND_BALL_M` behind it."""
     waypoint = behind_ball(pose, ball_xy, aim_xy)
-    if waypoint is not None:
-        return waypoint
+    return behind_point(ball_xy, aim_xy) if waypoint is None else waypoint
+
+
+def behind_point(ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> Pose2D:
+    """The spot :data:`BEHIND_BALL_M` behind the ball on the line from ``aim_xy``, facing it (field frame)."""
     bx, by = ball_xy
     aim = math.atan2(aim_xy[1] - by, aim_xy[0] - bx)
     return Pose2D(bx - math.cos(aim) * BEHIND_BALL_M, by - math.sin(aim) * BEHIND_BALL_M, aim)

@@ -12,8 +12,9 @@ or three sigmas) is not believed at once: a playing robot sees few landmarks at 
 a few symmetric ones (the centre circle, one goal's posts from close by) fit a mirrored pose
 as well as the true one. Such a fix is believed when :data:`JUMP_CONFIRMATIONS` fixes in a
 row agree on it (the robot really was moved: the localizer, left to itself, keeps finding
-it); meanwhile the pose's sigma is raised to at least :data:`DOUBT_SIGMA_M`, so that the
-robot looks for landmarks.
+it) and one of their frames showed a goal (the field's lines alone repeat: a few of them fit
+a pose 2 m to the side as well); meanwhile the pose's sigma is raised to at least
+:data:`DOUBT_SIGMA_M`, so that the robot looks for landmarks (it glances at a goal).
 """
 
 from __future__ import annotations
@@ -76,6 +77,7 @@ class SelfLocator:
         self.rejected_fixes = 0  # far fixes not believed (statistics)
         self._tracked: Pose2D | None = self.localizer.pose
         self._candidates: list[Pose2D] = []
+        self._candidates_saw_goal = False  # one of the candidates' frames showed a goal
         self._pending = Displacement(0.0, 0.0, 0.0)
 
     @property
@@ -91,6 +93,7 @@ class SelfLocator:
         self.localizer.reset(pose)
         self._tracked = pose
         self._candidates.clear()
+        self._candidates_saw_goal = False
         self.sigma_m, self.sigma_rad = RESET_SIGMA_M, RESET_SIGMA_RAD
 
     def move(self, step: Displacement) -> None:
@@ -126,7 +129,7 @@ class SelfLocator:
         estimate = self.localizer.localize(percepts)
         if estimate is None or estimate.source is EstimateSource.ODOMETER:
             return None
-        if not self._believe(estimate.pose):
+        if not self._believe(estimate.pose, any(p.goal is not None for p in percepts)):
             self.rejected_fixes += 1
             self.sigma_m = max(self.sigma_m, DOUBT_SIGMA_M)
             return None
@@ -141,17 +144,22 @@ class SelfLocator:
         self.sigma_m, self.sigma_rad = max(sigma_m, MIN_SIGMA_M), max(sigma_rad, MIN_SIGMA_RAD)
         return estimate
 
-    def _believe(self, fix: Pose2D) -> bool:
-        """Whether a fix is taken: near the tracked pose, or the last of enough far fixes that agree."""
+    def _believe(self, fix: Pose2D, saw_goal: bool) -> bool:
+        """Whether a fix is taken: near the tracked pose, or the last of enough far fixes that agree,
+        one of which saw a goal (``saw_goal``: this fix's percepts include a goal's)."""
         tracked = self._tracked
         if tracked is None or _near(fix, tracked, max(GATE_M, 3.0 * self.sigma_m), max(GATE_RAD, 3.0 * self.sigma_rad)):
             self._candidates.clear()
+            self._candidates_saw_goal = False
             return True
         if self._candidates and not _near(fix, self._candidates[-1], AGREE_M, AGREE_RAD):
             self._candidates.clear()
+            self._candidates_saw_goal = False
         self._candidates.append(fix)
-        if len(self._candidates) >= JUMP_CONFIRMATIONS:
+        self._candidates_saw_goal = self._candidates_saw_goal or saw_goal
+        if len(self._candidates) >= JUMP_CONFIRMATIONS and self._candidates_saw_goal:
             self._candidates.clear()
+            self._candidates_saw_goal = False
             return True
         return False
 

@@ -372,6 +372,8 @@ class TeamAgent:
         waypoint = skills.behind_ball(pose, ball_xy, (goal_x, 0.0))
         if waypoint is not None:
             motion, walk = skills.walk_to(pose, waypoint)
+            if motion is Motion.STAND:  # at the way round (near enough to it): on to the spot behind the ball
+                motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, (goal_x, 0.0)))
             return motion, walk, head
         heading_error = math.remainder(math.atan2(-ball_xy[1], goal_x - ball_xy[0]) - pose.theta, math.tau)
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
