@@ -75,6 +75,21 @@ class CameraIntrinsics:
         )
         return rays / np.linalg.norm(rays, axis=-1, keepdims=True)
 
+    def rotated_pixel_rays(
+        self, u: float | np.ndarray, v: float | np.ndarray, rotation: np.ndarray
+    ) -> tuple[float | np.ndarray, float | np.ndarray, float | np.ndarray]:
+        """The unit rays of :meth:`pixel_ray` turned by ``rotation`` (3x3, camera -> another frame), as (x, y, z).
+
+        For many pixels at once without stacking them: each component is a float for float
+        ``u``, ``v`` and an array of their broadcast shape for arrays.
+        """
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = np.asarray(rotation, float).tolist()
+        cx, cy = self.principal_point
+        x = (u + 0.5 - cx) / self.focal_px
+        y = (v + 0.5 - cy) / self.focal_px
+        norm = (x * x + y * y + 1.0) ** 0.5
+        return (r00 * x + r01 * y + r02) / norm, (r10 * x + r11 * y + r12) / norm, (r20 * x + r21 * y + r22) / norm
+
     def in_image(self, pixels: np.ndarray) -> np.ndarray:
         """Boolean mask of pixel coordinates (N, 2) that fall inside the image."""
         px = np.asarray(pixels, float).reshape(-1, 2)

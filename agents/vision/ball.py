@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from agents.vision.camera_models import torso_camera_pose
 from agents.vision.colors import ColorClass
 from agents.vision.segmentation import ColorTable, load_thresholds
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
@@ -78,20 +79,30 @@ def _largest_blob(mask: np.ndarray) -> tuple[float, float, int] | None:
     The centre is the blob's centroid, or, when the blob touches the image border (a ball
     cut off), the centre of a circle fitted to its outline away from the border.
     """
-    if int(np.count_nonzero(mask)) < MIN_BALL_PIXELS:
+    pixels = np.flatnonzero(mask)
+    if len(pixels) < MIN_BALL_PIXELS:
         return None
-    count, labels, stats, centroids = cv2.connectedComponentsWithStats(mask.astype(np.uint8), connectivity=8)
+    rows, cols = mask.shape
+    # Labelling only the box around the mask's pixels, from an even row and column: OpenCV labels
+    # 2x2 blocks in raster order, so the blobs keep the labels (and ties the order) of the whole image.
+    top, bottom = int(pixels[0] // cols) & ~1, int(pixels[-1] // cols)
+    pixel_cols = pixels % cols
+    left, right = int(pixel_cols.min()) & ~1, int(pixel_cols.max())
+    crop = mask[top : bottom + 1, left : right + 1].astype(np.uint8)
+    count, labels, stats, centroids = cv2.connectedComponentsWithStats(crop, connectivity=8)
     if count <= 1:
         return None
     best = int(np.argmax(stats[1:, cv2.CC_STAT_AREA])) + 1
     size = int(stats[best, cv2.CC_STAT_AREA])
     if size < MIN_BALL_PIXELS:
         return None
-    u, v = (float(c) for c in centroids[best])
-    left, top, width, height = (int(stats[best, k]) for k in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
-    rows, cols = mask.shape
-    if left == 0 or top == 0 or left + width == cols or top + height == rows:
-        fitted = _fit_cut_circle(labels == best)
+    u, v = float(centroids[best, 0]) + left, float(centroids[best, 1]) + top
+    blob_left, blob_top = int(stats[best, cv2.CC_STAT_LEFT]) + left, int(stats[best, cv2.CC_STAT_TOP]) + top
+    width, height = int(stats[best, cv2.CC_STAT_WIDTH]), int(stats[best, cv2.CC_STAT_HEIGHT])
+    if blob_left == 0 or blob_top == 0 or blob_left + width == cols or blob_top + height == rows:
+        blob = np.zeros(mask.shape, bool)
+        blob[top : bottom + 1, left : right + 1] = labels == best
+        fitted = _fit_cut_circle(blob)
         if fitted is not None:
             u, v = fitted
     return u, v, size
@@ -133,14 +144,15 @@ def ground_point(
     When the ray does not descend to ``height_m`` the bearing of the ray is returned with
     :data:`MAX_DISTANCE_M`.
     """
-    rotation, position = NAO_HEAD.camera_in_torso(head_yaw_rad, head_pitch_rad, camera)
-    ray = rotation @ NAO_CAMERA.pixel_ray(u, v)
-    bearing = math.atan2(float(ray[1]), float(ray[0]))
-    drop = float(position[2]) - height_m
-    if ray[2] >= -1e-9 or drop <= 0.0:
+    rotation, position = torso_camera_pose(NAO_HEAD, head_yaw_rad, head_pitch_rad, camera)
+    ray_x, ray_y, ray_z = NAO_CAMERA.rotated_pixel_rays(float(u), float(v), rotation)
+    bearing = math.atan2(ray_y, ray_x)
+    px, py, pz = position.tolist()
+    drop = pz - height_m
+    if ray_z >= -1e-9 or drop <= 0.0:
         return bearing, MAX_DISTANCE_M
-    t = drop / -float(ray[2])
-    x, y = float(position[0] + t * ray[0]), float(position[1] + t * ray[1])
+    t = drop / -ray_z
+    x, y = px + t * ray_x, py + t * ray_y
     distance = math.hypot(x, y)
     if distance > MAX_DISTANCE_M:
         return bearing, MAX_DISTANCE_M

@@ -11,6 +11,7 @@ blocked).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,6 +22,7 @@ BORDER_COLUMN_STEP_PX = 3  # thesis 4.3: "every third column"
 HEIGHT_THRESHOLD_PX = 3  # thesis Algorithm 1, HeightThreshold default
 REJECTION_PERCENTAGE = 0.75  # thesis Algorithm 1, RejectionPercentage default
 NO_DOT = -1
+GREEN = int(ColorClass.GREEN)
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,16 +42,22 @@ class FieldBorder:
 
     def row_at(self, u: np.ndarray) -> np.ndarray:
         """Border row (float) at image columns ``u``, interpolated between kept dots."""
-        kept = self.rows >= 0
-        if not self.found or not kept.any():
+        kept_columns, kept_rows = self._kept_dots
+        if not self.found or len(kept_columns) == 0:
             return np.full(np.shape(u), np.nan)
-        return np.interp(np.asarray(u, float), self.columns[kept], self.rows[kept].astype(float))
+        return np.interp(np.asarray(u, float), kept_columns, kept_rows)
+
+    @functools.cached_property
+    def _kept_dots(self) -> tuple[np.ndarray, np.ndarray]:
+        """Columns and rows (float) of the kept dots: the scan lines and every corner check read the border."""
+        kept = self.rows >= 0
+        return self.columns[kept], self.rows[kept].astype(float)
 
 
 def first_green_rows(labels: np.ndarray, step: int = BORDER_COLUMN_STEP_PX) -> tuple[np.ndarray, np.ndarray]:
     """Sampled columns and the row of the first green pixel from the top in each (-1: none)."""
     columns = np.arange(0, labels.shape[1], step)
-    green = labels[:, columns] == int(ColorClass.GREEN)
+    green = labels[:, columns] == GREEN
     rows = np.argmax(green, axis=0)
     rows[~green.any(axis=0)] = NO_DOT
     return columns, rows
@@ -64,25 +72,27 @@ def border_line_from_left(
     """Algorithm 1 of the thesis, as written: (found, border line with ignored dots at -1).
 
     ``heights`` are the dots' rows (-1 for a column without green, which is never kept).
+    The loop runs on Python ints (a numpy element costs more to read than to compare).
     """
-    border = heights.copy()
+    dots = heights.tolist()
+    border = list(dots)
     size = len(border)
     left, right, counter = start, start + 1, 0
     while right < size - 1:
         if border[left] == NO_DOT:
             left += 1
         else:
-            if heights[right] != NO_DOT and abs(int(heights[left]) - int(heights[right])) < height_threshold:
+            if dots[right] != NO_DOT and abs(dots[left] - dots[right]) < height_threshold:
                 left += 1
             else:
                 border[right] = NO_DOT
                 counter += 1
             right += 1
         if counter > rejection_percentage * size:
-            return False, border
-    border[:start] = NO_DOT  # dots before the start and the last one (the loop stops before
-    border[right:] = NO_DOT  # it, as written) were never connected to the line
-    return True, border
+            return False, np.array(border, heights.dtype)
+    border[:start] = [NO_DOT] * start  # dots before the start and the last one (the loop stops before
+    border[right:] = [NO_DOT] * (size - right)  # it, as written) were never connected to the line
+    return True, np.array(border, heights.dtype)
 
 
 def find_border(

@@ -18,6 +18,7 @@ image coordinates in pixel-index units: ``(u, v)`` is the centre of column ``u``
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Protocol
@@ -26,7 +27,7 @@ import numpy as np
 
 from agents.vision.errors import VisionConfigError
 from agents.vision.frame import CameraFrame
-from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraIntrinsics, HeadKinematics
+from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraIntrinsics, CameraPosition, HeadKinematics
 
 GRAVITY_MPS2 = 9.81
 MAX_TILT_ACCEL_DEVIATION_MPS2 = 1.0  # trust the accelerometer's tilt only when it reads about 1 g ...
@@ -103,19 +104,21 @@ class ExactCameraModel:
     min_tilt_rad: float = MIN_TILT_RAD
 
     def camera_pose(self, frame: CameraFrame) -> tuple[np.ndarray, np.ndarray]:
-        """Camera rotation (camera -> level torso frame) and position (m) for ``frame``."""
-        rotation, position = self.head.camera_in_torso(frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
-        tilt = level_rotation(frame.accelerometer_mps2, self.min_tilt_rad)
-        return tilt @ rotation, tilt @ position
+        """Camera rotation (camera -> level torso frame) and position (m) for ``frame``; read-only, cached."""
+        accel = frame.accelerometer_mps2
+        if accel is not None and not isinstance(accel, tuple):  # the cache's key must be hashable
+            accel = tuple(np.asarray(accel, float).reshape(-1).tolist())
+        yaw, pitch = frame.head_yaw_rad, frame.head_pitch_rad
+        return level_camera_pose(self.head, yaw, pitch, frame.camera, accel, self.min_tilt_rad)
 
     def locate(self, frame: CameraFrame, u: np.ndarray, v: np.ndarray) -> GroundPoints:
-        u, v = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))
         rotation, position = self.camera_pose(frame)
-        rays = self.intrinsics.pixel_ray(u, v) @ rotation.T
+        ray_x, ray_y, ray_z = self.intrinsics.rotated_pixel_rays(np.asarray(u, float), np.asarray(v, float), rotation)
+        px, py, pz = position.tolist()
         with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(rays[..., 2] < -1e-9, -position[2] / rays[..., 2], np.nan)
-        gx = position[0] + t * rays[..., 0]
-        gy = position[1] + t * rays[..., 1]
+            t = np.where(ray_z < -1e-9, -pz / ray_z, np.nan)
+        gx = px + t * ray_x
+        gy = py + t * ray_y
         return GroundPoints(np.arctan2(gy, gx), np.hypot(gx, gy))
 
     def project(self, frame: CameraFrame, points_torso: np.ndarray) -> np.ndarray:
@@ -123,6 +126,38 @@ class ExactCameraModel:
         rotation, position = self.camera_pose(frame)
         camera_points = (np.asarray(points_torso, float).reshape(-1, 3) - position) @ rotation
         return self.intrinsics.project(camera_points)
+
+
+@functools.lru_cache(maxsize=64)
+def torso_camera_pose(
+    head: HeadKinematics, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition
+) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`HeadKinematics.camera_in_torso` as read-only arrays, cached: every stage of a frame, and its
+    ball and robots, locate pixels with one pose."""
+    rotation, position = head.camera_in_torso(head_yaw_rad, head_pitch_rad, camera)
+    rotation.setflags(write=False)
+    position.setflags(write=False)
+    return rotation, position
+
+
+@functools.lru_cache(maxsize=64)
+def level_camera_pose(
+    head: HeadKinematics,
+    head_yaw_rad: float,
+    head_pitch_rad: float,
+    camera: CameraPosition,
+    accelerometer_mps2: tuple[float, float, float] | None,
+    min_tilt_rad: float = MIN_TILT_RAD,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Camera rotation (camera -> level torso frame) and position (m), read-only arrays, cached."""
+    rotation, position = torso_camera_pose(head, head_yaw_rad, head_pitch_rad, camera)
+    tilt = _tilt_rotation(accelerometer_mps2, min_tilt_rad)
+    if tilt is None:
+        return rotation, position  # what the product with the identity would be
+    rotation, position = tilt @ rotation, tilt @ position
+    rotation.setflags(write=False)
+    position.setflags(write=False)
+    return rotation, position
 
 
 def level_rotation(accelerometer_mps2: tuple[float, float, float] | None, min_tilt_rad: float = MIN_TILT_RAD) -> np.ndarray:
@@ -133,20 +168,26 @@ def level_rotation(accelerometer_mps2: tuple[float, float, float] | None, min_ti
     torso is taken as upright. So is a tilt below ``min_tilt_rad``: a standing robot's
     accelerometer reads its balance sway as up to a few degrees of tilt.
     """
+    tilt = _tilt_rotation(accelerometer_mps2, min_tilt_rad)
+    return np.eye(3) if tilt is None else tilt
+
+
+def _tilt_rotation(accelerometer_mps2: tuple[float, float, float] | None, min_tilt_rad: float) -> np.ndarray | None:
+    """:func:`level_rotation`, or None where it is the identity."""
     if accelerometer_mps2 is None:
-        return np.eye(3)
+        return None
     up = np.asarray(accelerometer_mps2, float)
     norm = float(np.linalg.norm(up))
     if not math.isfinite(norm) or abs(norm - GRAVITY_MPS2) > MAX_TILT_ACCEL_DEVIATION_MPS2:
-        return np.eye(3)
+        return None
     up /= norm
     if math.acos(max(-1.0, min(1.0, up[2]))) < min_tilt_rad:
-        return np.eye(3)
+        return None
     # Smallest rotation taking ``up`` to +z (Rodrigues); it keeps the heading of the torso x axis.
     axis = np.cross(up, [0.0, 0.0, 1.0])
     s, c = float(np.linalg.norm(axis)), float(up[2])
     if s < 1e-12:
-        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+        return None if c > 0 else np.diag([1.0, -1.0, -1.0])
     k = axis / s
     kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
     return np.eye(3) + s * kx + (1.0 - c) * (kx @ kx)

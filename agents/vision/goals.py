@@ -99,32 +99,42 @@ def longest_vertical_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def find_posts(labels: np.ndarray, goal: GoalColor) -> list[PostBlob]:
     """Post candidates of one goal colour, left to right, before any check."""
     mask = labels == int(GOAL_CLASSES[goal])
-    if not mask.any():
+    pixels = np.flatnonzero(mask)
+    if pixels.size == 0:
         return []
-    length, bottom = longest_vertical_runs(mask)
+    # The runs of the box around the goal pixels are those of the whole image (nothing lies outside it).
+    width = labels.shape[1]
+    top, box_bottom = int(pixels[0] // width), int(pixels[-1] // width)
+    pixel_columns = pixels % width
+    left, right = int(pixel_columns.min()), int(pixel_columns.max())
+    length, bottom = longest_vertical_runs(mask[top : box_bottom + 1, left : right + 1])
+    bottom += top
     is_post = length >= max(MIN_POST_RUN_PX, POST_RUN_FRACTION * length.max())
-    columns = np.flatnonzero(is_post)
-    if columns.size == 0:
+    box_columns = np.flatnonzero(is_post)
+    if box_columns.size == 0:
         return []
-    breaks = np.flatnonzero(np.diff(columns) >= POST_GAP_PX)
+    bounds = [0, *(np.flatnonzero(np.diff(box_columns) >= POST_GAP_PX) + 1).tolist(), len(box_columns)]
     posts = []
-    for group in np.split(columns, breaks + 1):
-        tops = bottom[group] - length[group] + 1
+    for start, end in zip(bounds[:-1], bounds[1:]):
+        group = box_columns[start:end]
+        first, last = int(group[0]) + left, int(group[-1]) + left
+        group_length = length[group]
+        tops = bottom[group] - group_length + 1
         lowest = int(bottom[group].max())
         # The base column: the mean column of the post's pixels in its lowest rows.
-        base = mask[max(0, lowest - BASE_ROWS + 1) : lowest + 1, group[0] : group[-1] + 1]
-        base_columns = np.nonzero(base)[1] + group[0]
+        base = mask[max(0, lowest - BASE_ROWS + 1) : lowest + 1, first : last + 1]
+        base_columns = (np.flatnonzero(base) % base.shape[1] + first).tolist()
         posts.append(
             PostBlob(
                 goal,
-                int(group[0]),
-                int(group[-1]),
+                first,
+                last,
                 int(tops.min()),
                 lowest,
-                float(base_columns.mean()),
-                int(np.count_nonzero(length[group] >= CORE_RUN_FRACTION * length[group].max())),
-                int(base_columns.min()),
-                int(base_columns.max()),
+                sum(base_columns) / len(base_columns),
+                int(np.count_nonzero(group_length >= CORE_RUN_FRACTION * group_length.max())),
+                min(base_columns),
+                max(base_columns),
             )
         )
     return posts
@@ -139,11 +149,11 @@ def crossbar_says_left(labels: np.ndarray, post: PostBlob) -> bool | None:
     """
     if post.top_row <= 0:
         return None
-    mask = labels == int(GOAL_CLASSES[post.goal])
+    goal_class = int(GOAL_CLASSES[post.goal])
     band = slice(post.top_row, min(labels.shape[0], post.top_row + max(2, post.width_px)))
     reach = max(3, 2 * post.width_px)
-    left = int(mask[band, max(0, post.first_column - reach) : post.first_column].sum())
-    right = int(mask[band, post.last_column + 1 : post.last_column + 1 + reach].sum())
+    left = int(np.count_nonzero(labels[band, max(0, post.first_column - reach) : post.first_column] == goal_class))
+    right = int(np.count_nonzero(labels[band, post.last_column + 1 : post.last_column + 1 + reach] == goal_class))
     if max(left, right) < CROSSBAR_MIN_PIXELS or left == right:
         return None
     return right > left
@@ -187,12 +197,18 @@ def detect_goals(
     width = labels.shape[1]
     focal = NAO_CAMERA.focal_px
     radius = FIELD.goal_post_radius
+    posts = [post for goal in GoalColor for post in find_posts(labels, goal)]
+    if not posts:
+        return (), GoalTrace()
+    ground = model.locate(frame, np.array([p.base_u for p in posts]), np.array([p.base_v for p in posts]))
+    located = list(zip(posts, ground.bearing_rad.tolist(), ground.distance_m.tolist()))  # all bases at once
     for goal in GoalColor:
         kept: list[tuple[PostBlob, float, float]] = []
-        for post in find_posts(labels, goal):
+        for post, bearing, base_distance in located:
+            if post.goal is not goal:
+                continue
             reason = ""
-            ground = model.locate(frame, post.base_u, post.base_v)
-            distance = float(ground.distance_m) + radius  # the base pixel is the post's front
+            distance = base_distance + radius  # the base pixel is the post's front
             if post.base_first_column == 0 or post.base_last_column == width - 1:
                 reason = "base cut by the image side"  # ours: its mean column would be off
             elif post.bottom_row >= labels.shape[0] - 1:
@@ -204,7 +220,7 @@ def detect_goals(
             if reason:
                 trace.append(_reject(post, reason))
             else:
-                kept.append((post, float(ground.bearing_rad), distance))
+                kept.append((post, bearing, distance))
         if len(kept) > 2:
             kept.sort(key=lambda k: -k[0].height_px)
             for post, _, _ in kept[2:]:

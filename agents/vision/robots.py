@@ -134,24 +134,22 @@ def marker_blobs(segmented: np.ndarray, min_pixels: int = MIN_BLOB_PIXELS) -> tu
     if labels.ndim != 2:
         raise VisionInputError(f"segmented image must be a 2-D label array; got shape {labels.shape}")
     blobs: list[MarkerBlob] = []
+    width = labels.shape[1]
     for color in MARKERS.values():
         mask = labels == int(color)
-        rows = np.flatnonzero(mask.any(axis=1))
-        if rows.size == 0:
+        pixels = np.flatnonzero(mask)
+        if pixels.size == 0:
             continue
-        columns = np.flatnonzero(mask.any(axis=0))
-        top, left = int(rows[0]), int(columns[0])
+        columns = pixels % width
+        top, bottom = int(pixels[0] // width), int(pixels[-1] // width)
+        left, right = int(columns.min()), int(columns.max())
         # Labelling only the box around the marker pixels: a few percent of the image, 50 times faster.
-        crop = mask[top : rows[-1] + 1, left : columns[-1] + 1].astype(np.uint8)
-        count, _, stats, centroids = cv2.connectedComponentsWithStats(crop, connectivity=8)
+        crop = mask[top : bottom + 1, left : right + 1].astype(np.uint8)
+        _, _, stats, centroids = cv2.connectedComponentsWithStats(crop, connectivity=8)
+        boxes = stats[1:].tolist()  # columns: cv2.CC_STAT_LEFT, _TOP, _WIDTH, _HEIGHT, _AREA
         parts = [
-            MarkerBlob(
-                color,
-                (int(stats[i, 0]) + left, int(stats[i, 1]) + top, int(stats[i, 2]), int(stats[i, 3])),
-                int(stats[i, cv2.CC_STAT_AREA]),
-                (float(centroids[i, 0]) + left, float(centroids[i, 1]) + top),
-            )
-            for i in range(1, count)
+            MarkerBlob(color, (box_left + left, box_top + top, box_width, box_height), area, (u + left, v + top))
+            for (box_left, box_top, box_width, box_height, area), (u, v) in zip(boxes, centroids[1:].tolist())
         ]
         blobs.extend(b for b in _join_fragments(parts) if b.pixels >= min_pixels)
     return tuple(sorted(blobs, key=lambda b: b.box[0]))

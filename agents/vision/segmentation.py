@@ -152,16 +152,7 @@ class ColorTable:
 
 
 _NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
-
-
-def _neighbour_counts(labels: np.ndarray, color: int) -> np.ndarray:
-    """For each pixel, how many of its 8 neighbours have label ``color``."""
-    mask = np.pad(labels == color, 1).astype(np.uint8)
-    h, w = labels.shape
-    counts = np.zeros((h, w), np.uint8)
-    for dr, dc in _NEIGHBOURS:
-        counts += mask[1 + dr : 1 + dr + h, 1 + dc : 1 + dc + w]
-    return counts
+PAD_LABEL = 255  # the label of the pixels around the image: no class
 
 
 def clean_outliers(labels: np.ndarray) -> np.ndarray:
@@ -170,18 +161,29 @@ def clean_outliers(labels: np.ndarray) -> np.ndarray:
     A non-white pixel with no 8-neighbour of its own class becomes white; a white pixel
     with no white 8-neighbour becomes orange when most of its neighbours are orange, and
     green otherwise.
+
+    Only a pixel whose left and right neighbours both differ from it can be isolated: the
+    neighbours of those few pixels alone are read.
     """
-    padded = np.pad(labels, 1, constant_values=255)
     h, w = labels.shape
-    same = np.zeros((h, w), np.uint8)
-    for dr, dc in _NEIGHBOURS:
-        same += padded[1 + dr : 1 + dr + h, 1 + dc : 1 + dc + w] == labels
-    isolated = same == 0
-    white = labels == int(ColorClass.WHITE)
     out = labels.copy()
-    out[isolated & ~white] = int(ColorClass.WHITE)
+    differs = np.ones((h, w + 1), bool)  # differs[r, c]: pixel (r, c) differs from (r, c - 1)
+    differs[:, 1:-1] = labels[:, 1:] != labels[:, :-1]
+    candidates = np.flatnonzero(differs[:, :-1] & differs[:, 1:])  # flat pixel indices
+    if len(candidates) == 0:
+        return out
+    padded = np.full((h + 2, w + 2), PAD_LABEL, labels.dtype)
+    padded[1:-1, 1:-1] = labels
+    rows, cols = np.divmod(candidates, w)
+    offsets = np.array([dr * (w + 2) + dc for dr, dc in _NEIGHBOURS])
+    around = padded.reshape(-1)[((rows + 1) * (w + 2) + cols + 1)[:, None] + offsets]  # (N, 8) neighbour labels
+    own = padded[rows + 1, cols + 1]
+    isolated = (around != own[:, None]).all(axis=1)
+    white = own == int(ColorClass.WHITE)
+    flat_out = out.reshape(-1)
+    flat_out[candidates[isolated & ~white]] = int(ColorClass.WHITE)
     lone_white = isolated & white
     if lone_white.any():
-        orange = _neighbour_counts(labels, int(ColorClass.ORANGE))
-        out[lone_white] = np.where(orange[lone_white] >= 4, int(ColorClass.ORANGE), int(ColorClass.GREEN))
+        orange = np.count_nonzero(around[lone_white] == int(ColorClass.ORANGE), axis=1)
+        flat_out[candidates[lone_white]] = np.where(orange >= 4, int(ColorClass.ORANGE), int(ColorClass.GREEN))
     return out

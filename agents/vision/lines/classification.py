@@ -21,6 +21,7 @@ the right, i.e. drawn going down ("side line with down gradient").
 from __future__ import annotations
 
 import enum
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,11 +64,14 @@ class LineKind(enum.Enum):
     @property
     def side_direction(self) -> Direction | None:
         """The direction of a side line (FindCorner compares them); None for other kinds."""
-        return {
-            LineKind.SIDE_LINE_UP: Direction.UP,
-            LineKind.SIDE_LINE_DOWN: Direction.DOWN,
-            LineKind.STRAIGHT: Direction.STRAIGHT,
-        }.get(self)
+        return SIDE_DIRECTIONS.get(self)
+
+
+SIDE_DIRECTIONS = {  # LineKind.side_direction
+    LineKind.SIDE_LINE_UP: Direction.UP,
+    LineKind.SIDE_LINE_DOWN: Direction.DOWN,
+    LineKind.STRAIGHT: Direction.STRAIGHT,
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,11 +92,11 @@ class ClassifiedLine:
     coefficients: tuple[float, float, float]
     straight_fit: tuple[float, float]
 
-    @property
+    @functools.cached_property
     def start(self) -> tuple[float, float]:
         return float(self.u[0]), float(self.v[0])
 
-    @property
+    @functools.cached_property
     def end(self) -> tuple[float, float]:
         return float(self.u[-1]), float(self.v[-1])
 
@@ -110,21 +114,45 @@ class ClassifiedLine:
 def fit_polynomial(w: np.ndarray, h: np.ndarray, degree: int = 2) -> tuple[float, ...]:
     """Least-squares ``h = sum c_k w^k`` coefficients, highest power first (thesis 2.3.1).
 
-    Solved on centred columns and mapped back: the same minimizer as the thesis' normal
-    equations, without their ill-conditioning (sums of ``w^4`` reach 1e9 px^4).
+    Solved in closed form on centred columns ``x = w - mean(w)`` with polynomials orthogonal
+    over them (1, x, x^2 - (S3 / S2) x - S2 / n, where ``Sk = sum x^k``), then mapped back:
+    the same minimizer as the thesis' normal equations, without their ill-conditioning
+    (sums of ``w^4`` reach 1e9 px^4). Needs at least ``degree + 1`` distinct columns.
     """
-    w = np.asarray(w, float)
-    h = np.asarray(h, float)
-    m = w.mean()
-    x = w - m
-    coef = np.linalg.lstsq(np.vander(x, degree + 1), h, rcond=None)[0]
-    if degree == 2:
-        a, b, c = coef
-        return float(a), float(b - 2.0 * a * m), float(a * m * m - b * m + c)
-    if degree == 1:
-        s, c = coef
-        return float(s), float(c - s * m)
-    raise ValueError(f"degree must be 1 or 2; got {degree}")
+    if degree not in (1, 2):
+        raise ValueError(f"degree must be 1 or 2; got {degree}")
+    line, parabola = _least_squares(np.asarray(w, float).tolist(), np.asarray(h, float).tolist(), degree == 2)
+    return parabola if degree == 2 else line
+
+
+def _least_squares(
+    ws: list[float], hs: list[float], parabola: bool
+) -> tuple[tuple[float, float], tuple[float, float, float] | None]:
+    """The straight line (slope, intercept) and, if ``parabola``, the parabola (a, b, c) of :func:`fit_polynomial`.
+
+    Plain floats: a line has a few dozen midpoints, fewer than numpy calls would cost.
+    """
+    n = len(ws)
+    m = sum(ws) / n
+    x = [wi - m for wi in ws]
+    s2 = sum([xi * xi for xi in x])
+    if s2 == 0.0:
+        raise ValueError("a fit needs at least two distinct columns")
+    slope = sum([xi * hi for xi, hi in zip(x, hs)]) / s2
+    mean_h = sum(hs) / n
+    line = (slope, mean_h - slope * m)
+    if not parabola:
+        return line, None
+    ratio = sum([xi * xi * xi for xi in x]) / s2
+    offset = s2 / n
+    p2 = [xi * xi - ratio * xi - offset for xi in x]  # orthogonal to 1 and x over the columns
+    p2_norm = sum([p * p for p in p2])
+    if p2_norm <= 1e-12 * s2 * offset:
+        raise ValueError("a parabola needs at least three distinct columns")
+    a = sum([p * hi for p, hi in zip(p2, hs)]) / p2_norm
+    b = slope - a * ratio  # the parabola a p2 + slope x + mean_h in powers of x ...
+    c = mean_h - a * offset
+    return line, (a, b - 2.0 * a * m, a * m * m - b * m + c)  # ... and in powers of w
 
 
 def process_line(a_scaled: float, b: float) -> LineKind:
@@ -160,12 +188,14 @@ def verify_curve(w: np.ndarray, h: np.ndarray, kind: LineKind, a_scaled: float, 
 
 def classify_line(w: np.ndarray, h: np.ndarray, directions: tuple[Direction, ...]) -> ClassifiedLine:
     """Fit, ProcessLine and (for half-circles) the curve verification of one line's midpoints."""
-    a, b, c = fit_polynomial(w, h)
-    straight = fit_polynomial(w, h, degree=1)
+    w = np.asarray(w, float)
+    h = np.asarray(h, float)
+    columns = w.tolist()
+    straight, (a, b, c) = _least_squares(columns, h.tolist(), parabola=True)
     if len(w) < MIN_CURVE_BLACK_LINES:
         kind = process_line(0.0, straight[0])
     else:
-        kind = process_line(a * A_SCALE, 2.0 * a * float(np.mean(w)) + b)
+        kind = process_line(a * A_SCALE, 2.0 * a * (sum(columns) / len(columns)) + b)
     if kind.is_curve:
         kind = verify_curve(w, h, kind, a * A_SCALE, straight[0])
-    return ClassifiedLine(np.asarray(w, float), np.asarray(h, float), directions, kind, (a, b, c), straight)
+    return ClassifiedLine(w, h, directions, kind, (a, b, c), straight)

@@ -40,7 +40,7 @@ def add_limit(len1: float, len2: float, w1: float, w2: float, dist: int = DIST) 
 
 def large_deviation(len1: float, len2: float) -> bool:
     """True when two black-line lengths deviate too much for AddLimit to apply."""
-    short, long_ = min(len1, len2), max(len1, len2)
+    short, long_ = (len1, len2) if len1 <= len2 else (len2, len1)
     return long_ > LENGTH_DEVIATION_RATIO * short and long_ - short >= LENGTH_DEVIATION_MIN_PX
 
 
@@ -77,6 +77,7 @@ def get_line(w: list, h: list, n: list, flag: list[int], start: int, dist: int =
     line = [start]
     flag[start] = 1
     current = start
+    direction = 0  # the sign of the last step (0 until the line has two black lines)
     limit_w = MAX_GAP_DISTS * dist
     for nxt in range(start + 1, len(w)):
         if w[nxt] - w[current] >= limit_w:  # criterion 3
@@ -86,9 +87,11 @@ def get_line(w: list, h: list, n: list, flag: list[int], start: int, dist: int =
         d2 = h[nxt] - h[current]
         if abs(d2) > add_limit(n[current], n[nxt], w[current], w[nxt], dist) or large_deviation(n[current], n[nxt]):
             continue  # criterion 4
-        if len(line) >= 2 and _sign(h[current] - h[line[-2]]) * _sign(d2) < 0:
+        step = _sign(d2)
+        if direction * step < 0:
             continue  # criterion 5: the direction changes sign
         line.append(nxt)
         flag[nxt] = 1
         current = nxt
+        direction = step
     return line

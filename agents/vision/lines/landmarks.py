@@ -164,7 +164,7 @@ def find_corner(l1: ClassifiedLine, l2: ClassifiedLine) -> CornerSighting | None
 def find_junction(stem: ClassifiedLine, bar: ClassifiedLine) -> JunctionSighting | None:
     """Find Junction: where an end of ``stem`` meets ``bar`` inside its span, or None."""
     for end, far, at_end in ((stem.start, stem.end, False), (stem.end, stem.start, True)):
-        if not bar.u[0] + JUNCTION_END_MARGIN_PX <= end[0] <= bar.u[-1] - JUNCTION_END_MARGIN_PX:
+        if not bar.start[0] + JUNCTION_END_MARGIN_PX <= end[0] <= bar.end[0] - JUNCTION_END_MARGIN_PX:
             continue
         bar_v = float(np.interp(end[0], bar.u, bar.v))
         if abs(end[1] - bar_v) <= JUNCTION_MAX_HEIGHT_PX:
@@ -245,10 +245,10 @@ def locate_circle(line: ClassifiedLine, frame: CameraFrame, model: CameraModel) 
     """
     ground = model.locate(frame, line.u, line.v)
     index = [0, len(line.u) // 2, len(line.u) - 1]
-    if not np.all(ground.valid[index]):
+    if not ground.valid[index].all():
         return None
     xy = ground.xy()
-    points = tuple((float(x), float(y)) for x, y in xy[index])
+    points = tuple(map(tuple, xy[index].tolist()))
     fit = circle_through_three_points(*points)
     if fit is None:
         return None

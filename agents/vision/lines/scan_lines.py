@@ -18,6 +18,7 @@ Pixel coordinates: ``(u, v)`` = (column, row), integers are pixel centres; rows 
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,6 +49,8 @@ NEIGHBOURS_THESIS = (ColorClass.WHITE,)
 NEIGHBOURS_ALLOWED = (ColorClass.WHITE, ColorClass.GREEN)
 
 KEPT = 0
+WHITE = int(ColorClass.WHITE)
+GREEN = int(ColorClass.GREEN)
 CRITERION_COLOR = {1: ColorClass.ORANGE, 2: ColorClass.MAGENTA, 3: ColorClass.CYAN, 4: ColorClass.YELLOW}
 """Overlay colour of the black lines rejected by each criterion (thesis 4.5.1)."""
 
@@ -89,6 +92,27 @@ class BlackLines:
         return cls(none, none, none, none)
 
 
+@functools.lru_cache(maxsize=4)
+def _forbidden_beside(neighbours_allowed: tuple[ColorClass, ...]) -> np.ndarray:
+    """Lookup table over labels 0-255: True for a class criterion 2 rejects beside an interior point (read-only)."""
+    forbidden = np.ones(256, bool)
+    forbidden[[int(c) for c in neighbours_allowed]] = False
+    forbidden.setflags(write=False)
+    return forbidden
+
+
+@functools.lru_cache(maxsize=4)
+def _neighbour_columns(width: int, dist: int) -> tuple[np.ndarray, np.ndarray]:
+    """The columns left, then right, of the scan columns, and whether each is in the image (read-only)."""
+    columns = scan_columns(width, dist)
+    neighbours = np.concatenate([columns - 1, columns + 1])
+    in_image = (neighbours >= 0) & (neighbours < width)
+    neighbours = np.minimum(np.maximum(neighbours, 0), width - 1)
+    neighbours.setflags(write=False)
+    in_image.setflags(write=False)
+    return neighbours, in_image
+
+
 def scan_columns(width: int, dist: int = DIST) -> np.ndarray:
     """The scanned columns: 0, dist, 2 dist, ..."""
     return np.arange(0, width, dist)
@@ -110,17 +134,16 @@ def scan_black_lines(
         return BlackLines.empty()
     columns = scan_columns(width, dist)
     start = np.ceil(border.row_at(columns) - 1e-9).astype(np.int64)
-    start = np.clip(start, 0, height)
-    rows = np.arange(height)
-    sub = labels[:, columns]  # (H, K)
-    white = (sub == ColorClass.WHITE) & (rows[:, None] >= start[None, :])
-    # Runs: transitions of the padded white mask, transposed so nonzero() walks column-major.
-    padded = np.zeros((len(columns), height + 2), np.int8)
-    padded[:, 1:-1] = white.T
-    step = np.diff(padded, axis=1)
-    k_top, top = np.nonzero(step == 1)
-    _, bottom_excl = np.nonzero(step == -1)
-    bottom = bottom_excl - 1
+    start = np.minimum(np.maximum(start, 0), height)
+    scanned = labels[:, columns].T  # (K, H): scan column by scan column, so nonzero() walks column-major
+    white = (scanned == WHITE) & (np.arange(height) >= start[:, None])
+    # Runs: a top is a white pixel below a non-white one, a bottom one above a non-white one.
+    tops = white.copy()
+    tops[:, 1:] &= ~white[:, :-1]
+    bottoms = white.copy()
+    bottoms[:, :-1] &= ~white[:, 1:]
+    k_top, top = np.divmod(np.flatnonzero(tops), height)  # flat nonzero(): faster than a 2-D one
+    bottom = np.flatnonzero(bottoms) % height
     if len(top) == 0:
         return BlackLines.empty()
     column = columns[k_top]
@@ -128,28 +151,25 @@ def scan_black_lines(
 
     # Criterion 1: the pixels just above and just below are green (and inside the scan).
     above_ok = top > start[k_top]
-    above_ok &= sub[np.maximum(top - 1, 0), k_top] == ColorClass.GREEN
+    above_ok &= scanned[k_top, np.maximum(top - 1, 0)] == GREEN
     below_ok = bottom < height - 1
-    below_ok &= sub[np.minimum(bottom + 1, height - 1), k_top] == ColorClass.GREEN
+    below_ok &= scanned[k_top, np.minimum(bottom + 1, height - 1)] == GREEN
     rejected[~(above_ok & below_ok)] = 1
 
     # Criterion 2: the left/right neighbours of interior points (rows top+1..bottom-1) are white.
-    allowed = np.zeros(256, bool)
-    allowed[list(neighbours_allowed)] = True
-    left = ~allowed[labels[:, np.maximum(columns - 1, 0)]]
-    right = ~allowed[labels[:, np.minimum(columns + 1, width - 1)]]
-    left[:, columns == 0] = False  # no left neighbour at the image edge
-    right[:, columns == width - 1] = False
-    bad = np.zeros((height + 1, len(columns)), np.int32)
-    np.cumsum(left | right, axis=0, out=bad[1:])
-    interior_bad = bad[np.maximum(bottom, top + 1), k_top] - bad[top + 1, k_top]
+    neighbours, in_image = _neighbour_columns(width, dist)
+    beside = _forbidden_beside(neighbours_allowed)[labels[:, neighbours].T] & in_image[:, None]
+    beside = beside[: len(columns)] | beside[len(columns) :]  # (K, H): left or right of the scan column
+    bad = np.zeros((len(columns), height + 1), np.int32)
+    np.cumsum(beside, axis=1, out=bad[:, 1:])
+    interior_bad = bad[k_top, np.maximum(bottom, top + 1)] - bad[k_top, top + 1]
     rejected[(rejected == KEPT) & (interior_bad > 0)] = 2
 
     # Criterion 3: not longer than twice the average length of all black lines longer than 3 px.
     length = bottom - top + 1
     long_runs = length[length > LONG_RUN_MIN_PX]
     if len(long_runs):
-        rejected[(rejected == KEPT) & (length > LONG_RUN_FACTOR * long_runs.mean())] = 3
+        rejected[(rejected == KEPT) & (length > LONG_RUN_FACTOR * (long_runs.sum() / len(long_runs)))] = 3
 
     # Criterion 4: part of a chain of three close-enough black lines in consecutive columns.
     alive = np.flatnonzero(rejected == KEPT)
@@ -160,17 +180,26 @@ def scan_black_lines(
 
 
 def continuity(scan_index: np.ndarray, top: np.ndarray, bottom: np.ndarray) -> np.ndarray:
-    """Criterion 4 on black lines (scan column index, top, bottom): which pass."""
-    # close[i, j]: j is in the scan column right after i's and their rows overlap or touch.
-    close = scan_index[None, :] == scan_index[:, None] + 1
-    close &= np.maximum(top[:, None], top[None, :]) <= np.minimum(bottom[:, None], bottom[None, :]) + 1 + CLOSE_GAP_PX
+    """Criterion 4 on black lines (scan column index, top, bottom), sorted by scan column: which pass."""
+    count = len(scan_index)
+    # Candidates of each black line i: the black lines j of the next scan column, as an (i, slot) table.
+    first = np.searchsorted(scan_index, scan_index + 1, side="left")
+    end = np.searchsorted(scan_index, scan_index + 1, side="right")
+    slots = int((end - first).max(initial=0))
+    j = first[:, None] + np.arange(slots)
+    in_next_column = j < end[:, None]
+    j = np.minimum(j, count - 1)
+    # close[i, slot]: j is in the scan column right after i's and their rows overlap or touch.
+    overlap = np.maximum(top[:, None], top[j]) <= np.minimum(bottom[:, None], bottom[j]) + 1 + CLOSE_GAP_PX
+    close = in_next_column & overlap
     has_right = close.any(axis=1)
-    has_left = close.any(axis=0)
-    first = (close & has_right[None, :]).any(axis=1)  # i -> j -> k
-    last = (close.T & has_left[None, :]).any(axis=1)  # k -> j -> i
-    middle = has_left & has_right
-    ok = first | middle | last
+    has_left = np.zeros(count, bool)
+    has_left[j[close]] = True
+    starts_chain = (close & has_right[j]).any(axis=1)  # i -> j -> k
+    ends_chain = np.zeros(count, bool)
+    ends_chain[j[close & has_left[:, None]]] = True  # k -> j -> i
+    ok = starts_chain | (has_left & has_right) | ends_chain
     length = bottom - top + 1
-    much_longer = (length[None, :] * SMALLER_RATIO > length[:, None]) & (length[None, :] - length[:, None] >= SMALLER_MIN_DIFF_PX)
+    much_longer = (length[j] * SMALLER_RATIO > length[:, None]) & (length[j] - length[:, None] >= SMALLER_MIN_DIFF_PX)
     ok &= ~(close & much_longer).any(axis=1)
     return ok

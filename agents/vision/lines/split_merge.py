@@ -130,9 +130,10 @@ def merge_lines(
     lines = list(lines)
     while True:
         best = None
-        for i, (first, seq1) in enumerate(lines):
-            for j, (second, seq2) in enumerate(lines):
-                if i == j or (SEQUENCES[seq1], SEQUENCES[seq2]) not in MERGE_COMPATIBLE:
+        names = [SEQUENCES[sequence] for _, sequence in lines]
+        for i, (first, _) in enumerate(lines):
+            for j, (second, _) in enumerate(lines):
+                if i == j or (names[i], names[j]) not in MERGE_COMPATIBLE:
                     continue
                 end, begin = first[-1], second[0]
                 gap_w = columns[begin] - columns[end]

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import enum
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -70,7 +71,8 @@ POST_WINDOW_MIN_REACH_M = 0.3
 GOAL_AREA_STEM_MAX_M = FIELD.goal_area_depth + 0.15
 POST_ROWS_ABOVE_PX = 6  # rows above the bar searched for a post base
 POST_ROWS_BELOW_PX = 2
-GOAL_CLASSES = (int(ColorClass.BLUE), int(ColorClass.YELLOW))
+IS_GOAL_CLASS = np.isin(np.arange(256), [int(ColorClass.BLUE), int(ColorClass.YELLOW)])  # lookup over labels
+WHITE = int(ColorClass.WHITE)
 # Where the centre circle, when seen in the same frame, crosses the middle line: within this
 # of its painted line (the nearest landmark, a middle-line T junction, is 1.4 m from it).
 CIRCLE_RING_TOLERANCE_M = 0.25
@@ -107,9 +109,34 @@ def _ground_gaps(
     return np.hypot(xy[:-1, 0] - xy[-1, 0], xy[:-1, 1] - xy[-1, 1])
 
 
+@dataclass(frozen=True, eq=False)
+class GroundWindow:
+    """The pixels (u, v) within WINDOW_PX of a vertex and below the field border, and their ground
+    points ``xy`` (N, 2; torso frame, m; NaN off the ground, ``valid`` False)."""
+
+    u: np.ndarray
+    v: np.ndarray
+    xy: np.ndarray
+    valid: np.ndarray
+
+
+def ground_window(
+    labels: np.ndarray, border: FieldBorder, frame: CameraFrame, model: CameraModel, vertex: tuple[float, float]
+) -> GroundWindow:
+    """The :class:`GroundWindow` around ``vertex`` (pixels); empty when the vertex is far out of the image."""
+    h, w = labels.shape
+    u0, v0 = int(round(vertex[0])), int(round(vertex[1]))
+    rows = np.arange(max(0, v0 - WINDOW_PX), min(h, v0 + WINDOW_PX + 1))
+    cols = np.arange(max(0, u0 - WINDOW_PX), min(w, u0 + WINDOW_PX + 1))
+    below = np.flatnonzero(rows[:, None] > border.row_at(cols)[None, :])  # row-major over the window
+    vv, uu = rows[below // len(cols)], cols[below % len(cols)]
+    ground = model.locate(frame, uu, vv)
+    return GroundWindow(uu, vv, ground.xy(), ground.valid)
+
+
 def arm_continues(
     labels: np.ndarray,
-    border: FieldBorder,
+    window: GroundWindow,
     frame: CameraFrame,
     model: CameraModel,
     vertex: tuple[float, float],
@@ -117,46 +144,33 @@ def arm_continues(
 ) -> bool | None:
     """Whether the line from ``arm_end`` to ``vertex`` goes on beyond the vertex; None when the image cannot tell.
 
-    On the ground, the pixels between CONTINUATION_NEAR_M and CONTINUATION_FAR_M beyond the
-    vertex and within CONTINUATION_HALF_ANGLE_RAD of the arm's direction are split into
-    CONTINUATION_BINS by distance: the line goes on when white is in at least
-    CONTINUATION_MIN_WHITE_BINS of them. A sector rather than a ray, because the vertex pixel
-    is a few pixels off and a curved arm's chord is not its tangent at the vertex.
+    On the ground, the pixels of ``window`` (around ``vertex``) between CONTINUATION_NEAR_M and
+    CONTINUATION_FAR_M beyond the vertex and within CONTINUATION_HALF_ANGLE_RAD of the arm's
+    direction are split into CONTINUATION_BINS by distance: the line goes on when white is in
+    at least CONTINUATION_MIN_WHITE_BINS of them. A sector rather than a ray, because the
+    vertex pixel is a few pixels off and a curved arm's chord is not its tangent at the vertex.
     """
-    h, w = labels.shape
-    u0, v0 = int(round(vertex[0])), int(round(vertex[1]))
-    rows = np.arange(max(0, v0 - WINDOW_PX), min(h, v0 + WINDOW_PX + 1))
-    cols = np.arange(max(0, u0 - WINDOW_PX), min(w, u0 + WINDOW_PX + 1))
-    if len(rows) == 0 or len(cols) == 0:
+    ends = model.locate(frame, np.array([vertex[0], arm_end[0]]), np.array([vertex[1], arm_end[1]]))
+    if not ends.valid.all():
         return None
-    vv, uu = np.meshgrid(rows, cols, indexing="ij")
-    uu, vv = uu.ravel(), vv.ravel()
-    field = vv > border.row_at(uu)
-    uu, vv = uu[field], vv[field]
-    ground = model.locate(frame, np.append(uu, [vertex[0], arm_end[0]]), np.append(vv, [vertex[1], arm_end[1]]))
-    if not ground.valid[-2:].all():
-        return None
-    xy = ground.xy()
-    origin, far = xy[-2], xy[-1]
+    origin, far = ends.xy()
     ahead = origin - far  # the arm's direction, continued beyond the vertex
     length = float(np.hypot(*ahead))
     if length < 1e-6:
         return None
     ahead /= length
-    offset = xy[:-2] - origin
+    offset = window.xy - origin
     along = offset @ ahead
     across = offset @ np.array([-ahead[1], ahead[0]])
     r = np.hypot(along, across)
-    sector = ground.valid[:-2] & (r >= CONTINUATION_NEAR_M) & (r <= CONTINUATION_FAR_M)
-    sector &= np.abs(np.arctan2(across, along)) <= CONTINUATION_HALF_ANGLE_RAD
-    bins = np.minimum(
-        ((r[sector] - CONTINUATION_NEAR_M) / (CONTINUATION_FAR_M - CONTINUATION_NEAR_M) * CONTINUATION_BINS).astype(int),
-        CONTINUATION_BINS - 1,
-    )
-    if len(np.unique(bins)) < CONTINUATION_BINS:
+    ring = np.flatnonzero(window.valid & (r >= CONTINUATION_NEAR_M) & (r <= CONTINUATION_FAR_M))
+    sector = ring[np.abs(np.arctan2(across[ring], along[ring])) <= CONTINUATION_HALF_ANGLE_RAD]
+    stretch = (r[sector] - CONTINUATION_NEAR_M) / (CONTINUATION_FAR_M - CONTINUATION_NEAR_M)
+    bins = np.minimum((stretch * CONTINUATION_BINS).astype(int), CONTINUATION_BINS - 1)
+    if int(np.count_nonzero(np.bincount(bins, minlength=CONTINUATION_BINS))) < CONTINUATION_BINS:
         return None  # part of the stretch is out of the image or beyond the field border
-    white = labels[vv[sector], uu[sector]] == int(ColorClass.WHITE)
-    return len(np.unique(bins[white])) >= CONTINUATION_MIN_WHITE_BINS
+    white = labels[window.v[sector], window.u[sector]] == WHITE
+    return int(np.count_nonzero(np.bincount(bins[white], minlength=CONTINUATION_BINS))) >= CONTINUATION_MIN_WHITE_BINS
 
 
 def post_on_bar(labels: np.ndarray, frame: CameraFrame, model: CameraModel, junction: JunctionSighting) -> bool | None:
@@ -172,10 +186,12 @@ def post_on_bar(labels: np.ndarray, frame: CameraFrame, model: CameraModel, junc
         gaps = _ground_gaps(frame, model, junction.pixel, u, v) if len(u) else np.zeros(0)
         band = gaps <= GOAL_AREA_POST_WINDOW_M  # NaN compares False
         cut_off |= not bool((gaps >= POST_WINDOW_MIN_REACH_M).any())
-        for cu, cv in zip(np.rint(u[band]).astype(int), np.rint(v[band]).astype(int)):
-            rows = labels[max(0, cv - POST_ROWS_ABOVE_PX) : min(h, cv + POST_ROWS_BELOW_PX + 1), min(cu, w - 1)]
-            if np.isin(rows, GOAL_CLASSES).any():
-                return True
+        # The rows from POST_ROWS_ABOVE_PX above to POST_ROWS_BELOW_PX below each band pixel.
+        rows = np.rint(v[band]).astype(int)[:, None] + np.arange(-POST_ROWS_ABOVE_PX, POST_ROWS_BELOW_PX + 1)
+        columns = np.minimum(np.rint(u[band]).astype(int), w - 1)[:, None]
+        in_image = (rows >= 0) & (rows < h)
+        if (IS_GOAL_CLASS[labels[np.minimum(np.maximum(rows, 0), h - 1), columns]] & in_image).any():
+            return True
     return None if cut_off else False
 
 
@@ -193,12 +209,11 @@ def segment_painted(labels: np.ndarray, start: tuple[float, float], end: tuple[f
     u = start[0] + t * d[0]
     v = start[1] + t * d[1]
     normal = np.array([-d[1], d[0]]) / length
-    white = np.zeros(len(t), bool)
-    for k in range(-SIDE_PX, SIDE_PX + 1):
-        cu = np.clip(np.rint(u + k * normal[0]).astype(int), 0, w - 1)
-        cv = np.clip(np.rint(v + k * normal[1]).astype(int), 0, h - 1)
-        white |= labels[cv, cu] == int(ColorClass.WHITE)
-    return bool(white.mean() >= PAINTED_FRACTION)
+    across = np.arange(-SIDE_PX, SIDE_PX + 1)[:, None]  # one row of samples per offset across the segment
+    cu = np.minimum(np.maximum(np.rint(u + across * normal[0]).astype(int), 0), w - 1)
+    cv = np.minimum(np.maximum(np.rint(v + across * normal[1]).astype(int), 0), h - 1)
+    white = (labels[cv, cu] == WHITE).any(axis=0)
+    return int(np.count_nonzero(white)) / len(t) >= PAINTED_FRACTION
 
 
 def ground_angle_rad(
@@ -224,14 +239,19 @@ def square_on_ground(
     return angle is not None and abs(angle - math.pi / 2.0) <= SQUARE_TOLERANCE_RAD
 
 
-def on_circle_ring(frame: CameraFrame, model: CameraModel, pixel: tuple[float, float], circle: CircleSighting) -> bool:
-    """Whether ``pixel`` lies on the ground within CIRCLE_RING_TOLERANCE_M of the seen centre circle's line."""
-    ground = model.locate(frame, np.array([pixel[0]]), np.array([pixel[1]]))
-    if not ground.valid[0]:
-        return False
-    x, y = ground.xy()[0]
-    gap = math.hypot(x - circle.center_m[0], y - circle.center_m[1]) - FIELD.center_circle_radius
-    return abs(gap) <= CIRCLE_RING_TOLERANCE_M
+def on_circle_ring(
+    frame: CameraFrame, model: CameraModel, pixels: list[tuple[float, float]], circle: CircleSighting
+) -> list[bool]:
+    """Whether each pixel lies on the ground within CIRCLE_RING_TOLERANCE_M of the seen centre circle's line."""
+    if not pixels:
+        return []
+    u, v = np.array(pixels, float).T
+    ground = model.locate(frame, u, v)
+    on_ring = []
+    for (x, y), valid in zip(ground.xy().tolist(), ground.valid.tolist()):
+        gap = math.hypot(x - circle.center_m[0], y - circle.center_m[1]) - FIELD.center_circle_radius
+        on_ring.append(valid and abs(gap) <= CIRCLE_RING_TOLERANCE_M)
+    return on_ring
 
 
 def _stem_longer_than_goal_area(frame: CameraFrame, model: CameraModel, junction: JunctionSighting) -> bool:
@@ -247,14 +267,18 @@ def _junction_verdict(
     model: CameraModel,
     junction: JunctionSighting,
     check_paint: bool = True,
+    window: GroundWindow | None = None,
 ) -> Verdict:
+    """The checks of a T junction; ``window``: its vertex's :class:`GroundWindow` if already made."""
     if check_paint and not (
         segment_painted(labels, junction.pixel, junction.stem_end) and segment_painted(labels, *junction.bar_ends)
     ):
         return Verdict.REJECTED
     if not square_on_ground(frame, model, junction.pixel, junction.stem_end, junction.bar_ends[0]):
         return Verdict.REJECTED
-    if arm_continues(labels, border, frame, model, junction.pixel, junction.stem_near) is not False:
+    if window is None:
+        window = ground_window(labels, border, frame, model, junction.pixel)
+    if arm_continues(labels, window, frame, model, junction.pixel, junction.stem_near) is not False:
         return Verdict.REJECTED
     post = post_on_bar(labels, frame, model, junction)
     if post or (post is None and not _stem_longer_than_goal_area(frame, model, junction)):
@@ -271,7 +295,8 @@ def verify_corner(
         return Verdict.REJECTED, None
     if not square_on_ground(frame, model, corner.pixel, first, second):
         return Verdict.REJECTED, None
-    goes_on = [arm_continues(labels, border, frame, model, corner.pixel, near) for near in corner.arm_near]
+    window = ground_window(labels, border, frame, model, corner.pixel)
+    goes_on = [arm_continues(labels, window, frame, model, corner.pixel, near) for near in corner.arm_near]
     if goes_on[0] and goes_on[1]:
         return Verdict.REJECTED, None
     if goes_on[0] is False and goes_on[1] is False:
@@ -284,7 +309,8 @@ def verify_corner(
     # vertex mirrored, which is all the post check needs (a direction along the bar).
     mirrored = (2.0 * corner.pixel[0] - bar_end[0], 2.0 * corner.pixel[1] - bar_end[1])
     junction = JunctionSighting(corner.pixel, stem_end, stem_near, (bar_end, mirrored))
-    verdict = _junction_verdict(labels, border, frame, model, junction, check_paint=False)  # arms checked above
+    # The arms were checked for paint above.
+    verdict = _junction_verdict(labels, border, frame, model, junction, check_paint=False, window=window)
     return verdict, junction if verdict is Verdict.T_JUNCTION else None
 
 
@@ -309,8 +335,10 @@ def verify_sightings(
     ``circle``: the centre circle accepted in the same frame, if any.
     """
     if circle is not None:
-        corners = tuple(c for c in corners if not on_circle_ring(frame, model, c.pixel, circle))
-        junctions = tuple(j for j in junctions if not on_circle_ring(frame, model, j.pixel, circle))
+        on_ring = on_circle_ring(frame, model, [s.pixel for s in corners + junctions], circle)
+        corners_on_ring, junctions_on_ring = on_ring[: len(corners)], on_ring[len(corners) :]
+        corners = tuple(c for c, ring in zip(corners, corners_on_ring) if not ring)
+        junctions = tuple(j for j, ring in zip(junctions, junctions_on_ring) if not ring)
     kept_corners: list[CornerSighting] = []
     kept_junctions = [j for j in junctions if verify_junction(labels, border, frame, model, j)]
     for corner in corners:
