@@ -167,3 +167,16 @@ def test_after_a_fall_a_fix_may_turn_the_heading_at_once() -> None:
     locator.fell(0.2, math.radians(60.0))
     assert stand_in.widened == 1
     assert locator.update((LINE_CORNER,)) is not None and locator.pose == turned
+
+
+def test_the_closed_form_spread_is_the_largest_eigenvalue() -> None:
+    import numpy as np
+
+    from agents.modelling.spread import largest_eigenvalue
+
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        m = rng.normal(size=(2, 2))
+        m = m @ m.T
+        assert largest_eigenvalue(m[0, 0], m[0, 1], m[1, 1]) == pytest.approx(float(np.linalg.eigvalsh(m).max()))
+    assert largest_eigenvalue(0.0, 0.0, 0.0) == 0.0

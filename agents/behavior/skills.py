@@ -43,6 +43,9 @@ SCAN_PITCH_RAD = 0.3
 # Every other sweep looks near the feet with the bottom camera (ground about 0.06-0.42 m
 # ahead): a ball right in front of the robot (a kick-off, a penalty) is seen there.
 NEAR_SCAN_PITCH_RAD = 0.45
+# The bottom camera pitched less covers the ground about 0.25-0.9 m ahead: the gap between the
+# near look and the top camera's sweep (from about 0.7 m).
+MID_SCAN_PITCH_RAD = 0.1
 SCAN_AMPLITUDE_RAD = math.radians(100.0)
 SEARCH_SCAN_RATE_RADPS = 1.5
 IDLE_SCAN_RATE_RADPS = 0.5
@@ -277,9 +280,11 @@ def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float,
     ux, uy = math.cos(aim), math.sin(aim)
     ahead = -(dx * ux + dy * uy)  # how far the robot is on the aim side of the ball
     if ahead > -BEHIND_BALL_M / 2:
+        # Past the ball at its side, to level with the spot behind it: from there (well beyond the
+        # switch at half that depth, so that the choice does not flip back) straight to that spot.
         side = 1.0 if dx * uy - dy * ux >= 0.0 else -1.0  # the robot is left (+1) or right of the aim line
-        return Pose2D(bx - uy * side * PASS_BALL_SIDE_M - ux * BEHIND_BALL_M / 2,
-                      by + ux * side * PASS_BALL_SIDE_M - uy * BEHIND_BALL_M / 2, aim)
+        return Pose2D(bx - uy * side * PASS_BALL_SIDE_M - ux * BEHIND_BALL_M,
+                      by + ux * side * PASS_BALL_SIDE_M - uy * BEHIND_BALL_M, aim)
     return Pose2D(bx - ux * BEHIND_BALL_M, by - uy * BEHIND_BALL_M, aim)
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from agents.modelling.spread import largest_eigenvalue
 from match.protocol import Displacement
 
 ROLL_DECAY_S = 2.0  # velocity time constant: 1.5 m/s * 2 s = 3 m of roll
@@ -122,7 +123,7 @@ class BallModel:
         """The ball in the torso frame, or None when never seen."""
         if self.x is None:
             return None
-        sigma = math.sqrt(max(np.linalg.eigvalsh(self.p[:2, :2])))
+        sigma = math.sqrt(largest_eigenvalue(self.p[0, 0], self.p[0, 1], self.p[1, 1]))
         return BallEstimate(*(float(v) for v in self.x), sigma, self.age_s)
 
     def in_field(self, pose: tuple[float, float, float], pose_sigma_m: float, pose_sigma_rad: float) -> BallEstimate | None:

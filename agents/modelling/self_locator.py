@@ -28,6 +28,7 @@ import numpy as np
 from agents.localization import PoseEstimate, localizer
 from agents.localization.estimate import EstimateSource
 from agents.localization.odometry import compose
+from agents.modelling.spread import largest_eigenvalue
 from agents.vision.percepts import LandmarkPercept
 from match.protocol import Displacement, Pose2D
 
@@ -137,7 +138,7 @@ class SelfLocator:
         self.last_fix = estimate
         if estimate.covariance is not None:
             cov = np.asarray(estimate.covariance, float)
-            sigma_m = math.sqrt(max(float(np.linalg.eigvalsh(cov[:2, :2]).max()), 0.0))
+            sigma_m = math.sqrt(largest_eigenvalue(cov[0, 0], cov[0, 1], cov[1, 1]))
             sigma_rad = math.sqrt(max(float(cov[2, 2]), 0.0))
         else:
             sigma_m, sigma_rad = FIX_SIGMA_M, FIX_SIGMA_RAD

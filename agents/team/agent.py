@@ -447,7 +447,7 @@ class TeamAgent:
         yaw = self._sweep.advance(skills.SEARCH_SCAN_RATE_RADPS)
         if self._sweep.reversals % 2 == 1:
             self._camera = CameraPosition.BOTTOM
-            return yaw, skills.NEAR_SCAN_PITCH_RAD
+            return yaw, skills.MID_SCAN_PITCH_RAD
         self._camera = CameraPosition.TOP
         return yaw, skills.SCAN_PITCH_RAD
 
