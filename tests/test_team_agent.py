@@ -168,7 +168,8 @@ def test_the_striker_goes_behind_the_ball_and_round_it_on_its_own_side() -> None
     behind = behind_ball(Pose2D(0.5, -1.0, 1.57), ball, goal)  # 63 degrees off: go behind first
     assert (behind.x, behind.y, behind.theta) == pytest.approx((1.0 - BEHIND_BALL_M, 0.0, 0.0))
     level = behind_ball(Pose2D(1.0, -1.0, 1.57), ball, goal)  # level with the ball: past it on its side first
-    assert (level.x, level.y) == pytest.approx((1.0 - BEHIND_BALL_M / 2, -PASS_BALL_SIDE_M))
+    assert (level.x, level.y) == pytest.approx((1.0 - BEHIND_BALL_M, -PASS_BALL_SIDE_M))
+    assert behind_ball(level, ball, goal) == behind  # from there, straight to the spot behind the ball
     beyond = behind_ball(Pose2D(2.0, 0.3, math.pi), ball, goal)  # on the far side, a little left
     assert beyond.y == pytest.approx(PASS_BALL_SIDE_M) and beyond.x < ball[0]  # passes on its own (left) side
     assert behind_ball(Pose2D(2.0, 0.3, math.pi), (3.3, 0.0), goal) is None  # a ball out of the field
@@ -211,22 +212,20 @@ def test_after_a_throw_in_it_looks_for_the_ball_where_the_rule_put_it() -> None:
     assert report.team_ball_xy == pytest.approx((0.0, 1.6), abs=0.05)
 
 
-def test_the_striker_at_its_way_round_the_ball_walks_on_behind_it() -> None:
-    """Near enough to the way round the ball (within the walk's arrival tolerance) but not yet where
-    the ball is behind, the striker walks on to the spot behind the ball instead of standing."""
+def test_the_striker_level_with_the_ball_walks_on_behind_it() -> None:
+    """A striker level with the ball and off to its side (found standing there for 70 s, dithering
+    between two targets) walks on round it, and from its way round to the spot behind the ball."""
     from agents.behavior import skills
 
     ball, goal = (0.0, -1.6), (-3.0, 0.0)
-    pose = Pose2D(0.33, -1.21, math.radians(149.0))  # a striker found standing here for 70 s
-    waypoint = skills.behind_ball(pose, ball, goal)
-    assert waypoint is not None and skills.walk_to(pose, waypoint)[0] is Motion.STAND
-    motion, walk = skills.walk_to(pose, skills.behind_point(ball, goal))
-    assert motion is Motion.WALK and any(walk)
-    agent = TeamAgent()
-    agent.reset("home_3", 0)
-    rel = BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.05, 0.0)
-    motion, walk, _ = agent._strike(pose, rel, None, -1.0, (0.0, 0.0))
-    assert motion is Motion.WALK and any(walk)
+    for pose in (Pose2D(0.33, -1.21, math.radians(149.0)), skills.behind_ball(Pose2D(0.33, -1.21, 2.6), ball, goal)):
+        agent = TeamAgent()
+        agent.reset("home_3", 0)
+        rel = BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.05, 0.0)
+        motion, walk, _ = agent._strike(pose, rel, None, -1.0, (0.0, 0.0))
+        assert motion is Motion.WALK and any(walk), pose
+    assert skills.behind_ball(skills.behind_ball(Pose2D(0.33, -1.21, 2.6), ball, goal), ball, goal) == (
+        skills.behind_point(ball, goal))
 
 
 def _to_robot(pose: Pose2D, xy: tuple[float, float]) -> tuple[float, float]:
