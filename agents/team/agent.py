@@ -13,8 +13,9 @@ One step (40 ms) runs, from the observation only:
    the ball the ball model, robots the obstacle model.
 4. **Game state**: stand in INITIAL, SET and FINISHED (placed at its kick-off pose in
    INITIAL, so the locator is reset there, and in SET when it lay fallen or believes it
-   stood where it may not stay: the referee placed it); walk to the kick-off pose in READY; stand up after a fall; in a penalty shoot-out,
-   reset at the kicker's or goalkeeper's place when the kick is set. After a throw-in (the
+   stood where it may not stay: the referee placed it); walk to the kick-off pose in READY;
+   stand up after a fall, once it lies still; in a penalty shoot-out, reset at the kicker's
+   or goalkeeper's place when the kick is set. After a throw-in (the
    game-control data's drop-in), the balls seen before it are forgotten and the ball is
    believed at the rule's spot (from where it was last believed and who put it out) until
    someone sees it.
@@ -55,6 +56,8 @@ from agents.vision.percepts import LandmarkPercept
 from agents.vision.pipeline import VisionPipeline
 from agents.vision.robots import find_robots
 from match.protocol import (
+    THROW_IN_INSET_M,
+    THROW_IN_MAX_X_M,
     AgentId,
     AgentReport,
     CameraChoice,
@@ -65,8 +68,6 @@ from match.protocol import (
     KickOff,
     Motion,
     Pose2D,
-    THROW_IN_INSET_M,
-    THROW_IN_MAX_X_M,
     SecondaryState,
     kickoff_pose,
     legal_kickoff_position,
