@@ -285,7 +285,7 @@ def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float,
         side = 1.0 if dx * uy - dy * ux >= 0.0 else -1.0  # the robot is left (+1) or right of the aim line
         return Pose2D(bx - uy * side * PASS_BALL_SIDE_M - ux * BEHIND_BALL_M,
                       by + ux * side * PASS_BALL_SIDE_M - uy * BEHIND_BALL_M, aim)
-    return Pose2D(bx - ux * BEHIND_BALL_M, by - uy * BEHIND_BALL_M, aim)
+    return behind_point(ball_xy, aim_xy)
 
 
 def approach_pose(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> Pose2D:
