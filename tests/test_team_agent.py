@@ -16,6 +16,7 @@ from match.game import MatchConfig
 from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, observation_space
 from match.runner import run_match
 from tests.user_policies import RadioFuzzer
+from world.field import FIELD
 
 
 def _observation(seed: int, **changes) -> dict:
@@ -232,3 +233,47 @@ def _to_robot(pose: Pose2D, xy: tuple[float, float]) -> tuple[float, float]:
     dx, dy = xy[0] - pose.x, xy[1] - pose.y
     c, s = math.cos(pose.theta), math.sin(pose.theta)
     return c * dx + s * dy, -s * dx + c * dy
+
+
+@pytest.mark.parametrize("attack", [1.0, -1.0])
+def test_a_ball_in_front_of_its_own_goal_is_cleared_out_to_its_side(attack: float) -> None:
+    from agents.behavior.aim import BEHIND_MIN_DEPTH_M, kick_aim
+    from agents.behavior.skills import behind_point
+
+    own_line = -attack * FIELD.half_length
+    for depth in (0.05, 0.2, 0.4, 0.7):
+        for y in (-1.2, -0.5, 0.0, 0.3, 1.0):
+            ball = (own_line + attack * depth, y)
+            aim = kick_aim(ball, attack, robot_y=-0.4)
+            assert aim.clearing
+            direction = (aim.x - ball[0], aim.y - ball[1])
+            assert attack * direction[0] > 0.0  # never back toward its own line ...
+            assert abs(direction[1]) > 0.0 and (y == 0.0 or direction[1] * y > 0.0)  # ... out to the ball's side
+            if y == 0.0:
+                assert direction[1] > 0.0  # the robot stands right of a centred ball: cleared to the left
+            if depth >= 0.4:  # room behind the ball: the spot to kick it from lies in front of the line
+                spot = behind_point(ball, aim.xy)
+                assert attack * (spot.x - own_line) >= BEHIND_MIN_DEPTH_M - 1e-9
+    assert not kick_aim((own_line + attack * 0.9, 0.0), attack, 0.0).clearing  # out of the goal mouth
+    assert not kick_aim((own_line + attack * 0.3, 1.6), attack, 0.0).clearing  # beside it
+    assert kick_aim((0.0, 0.5), attack, 0.0) == kick_aim((0.0, -0.5), attack, 0.0)  # elsewhere: at the goal
+
+
+def test_a_clearing_goes_along_its_aim_never_toward_its_own_goal_and_is_pushed_near_the_line() -> None:
+    from agents.behavior.skills import PUSH_MPS
+
+    agent = TeamAgent()
+    agent.reset("home_1", 0)
+    ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
+    facing_own_goal = Pose2D(-2.65, 0.2, math.pi * 0.9)
+    motion, walk, _ = agent._strike(facing_own_goal, ball, None, 1.0, (0.0, 0.0))
+    assert not motion.is_kick and walk[0] < PUSH_MPS  # it goes round the ball
+    toward_aim = Pose2D(-2.85, 0.2, math.radians(40.0))  # out to the left, away from the goal mouth
+    motion, walk, _ = agent._strike(toward_aim, ball, None, 1.0, (0.0, 0.0))
+    assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)  # no kick there: a kick may go astray
+    farther_out = Pose2D(-2.65, 0.2, math.radians(40.0))
+    motion, _, _ = agent._strike(farther_out, ball, None, 1.0, (0.0, 0.0))
+    assert motion.is_kick
+    in_the_field = Pose2D(-1.0, 0.2, 0.0)
+    motion, _, _ = agent._strike(in_the_field, ball, None, 1.0, (0.0, 0.0))
+    assert motion.is_kick

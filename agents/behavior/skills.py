@@ -77,6 +77,9 @@ FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
 FOOT_BAND_M = (0.025, 0.085)  # |lateral offset| of a ball in front of a foot (m)
 KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.12-0.17 m ahead, 0.03-0.08 m to the side
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
+KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
+SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
+PUSH_MPS = 0.2  # dribbling: the walk's top forward speed
 ORBIT_RADPS = 0.5
 ORBIT_DISTANCE_M = 0.15
 ORBIT_DISTANCE_GAIN_PER_S = 0.5
@@ -142,6 +145,12 @@ def orbit(ball: RelativeBall, turn_rad: float) -> tuple[float, float, float]:
     forward = max(ball.distance_m * math.cos(ball.bearing_rad), ORBIT_DISTANCE_M / 2)
     off_foot = math.atan2(ball.left_m - math.copysign(FOOT_OFFSET_M, ball.left_m), forward)
     return walk_command(vx, -omega * max(ball.distance_m, ORBIT_DISTANCE_M), omega + TURN_GAIN_PER_S * off_foot)
+
+
+def push(ball: RelativeBall) -> tuple[float, float, float]:
+    """Dribble: walk on through the ball at :data:`PUSH_MPS`, keeping it between the feet, so it
+    goes where the robot faces (slower than a kick, but never behind the robot)."""
+    return walk_command(PUSH_MPS, ALIGN_GAIN_PER_S * ball.left_m, 0.0)
 
 
 def kick_for(ball: RelativeBall) -> Motion:

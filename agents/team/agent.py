@@ -21,7 +21,8 @@ One step (40 ms) runs, from the observation only:
    someone sees it.
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
-   goal computed from its pose estimate (a ball believed out: it waits on the throw-in line);
+   goal computed from its pose estimate (a ball believed out: it waits on the throw-in line;
+   a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`);
    the others walk to their role's position; every walk steps around the obstacles but the
    striker's near its ball.
 6. **Head**: track the ball, glance at a goal when the pose is uncertain; without its own
@@ -41,6 +42,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from agents.behavior import paths, skills
+from agents.behavior.aim import kick_aim
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.obstacle_model import ObstacleModel
@@ -102,8 +104,6 @@ SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only when the 
 POST_MARGIN_M = 0.15  # ... this far inside them
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
-KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
-SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
 OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
 THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
@@ -367,22 +367,25 @@ class TeamAgent:
         if _out_of_field(ball_xy):  # the referee will put it on the throw-in line: wait there
             motion, walk = skills.walk_to(pose, _throw_in_wait_pose(ball_xy, attack))
             return motion, walk, head
+        aim = kick_aim(ball_xy, attack, pose.y)
         if ball_rel is None:  # the team's ball (a teammate's, or a throw-in's spot): come at it from behind
-            motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, (goal_x, 0.0)))
+            motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, aim.xy))
             return motion, walk, head
-        waypoint = skills.behind_ball(pose, ball_xy, (goal_x, 0.0))
+        waypoint = skills.behind_ball(pose, ball_xy, aim.xy)
         if waypoint is not None:
             motion, walk = skills.walk_to(pose, waypoint)
             if motion is Motion.STAND:  # at the way round (near enough to it): on to the spot behind the ball
-                motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, (goal_x, 0.0)))
+                motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, aim.xy))
             return motion, walk, head
-        heading_error = math.remainder(math.atan2(-ball_xy[1], goal_x - ball_xy[0]) - pose.theta, math.tau)
+        heading_error = math.remainder(math.atan2(aim.y - ball_xy[1], aim.x - ball_xy[0]) - pose.theta, math.tau)
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick:
-            if not self._may_kick(pose, ball_xy, goal_x, heading_error):
+            if not self._may_kick(pose, ball_xy, goal_x, heading_error, aim.clearing):
                 motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
             else:
                 self.intention = Intention.KICK
+                if aim.push:  # just in front of its own goal a kick gone wrong is a goal: push the ball away
+                    motion, walk = Motion.WALK, skills.push(ball_rel)
         return motion, walk, head
 
     def _stand_up(self, obs: Observation) -> Motion:
@@ -403,10 +406,14 @@ class TeamAgent:
         ball = self._own_ball()
         return self.role is Role.STRIKER and ball is not None and ball.distance_m < CONTEST_BALL_M
 
-    def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float) -> bool:
+    def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float,
+                  clearing: bool = False) -> bool:
         """Facing the opponent goal by the pose (within its posts when in shooting range: the kick
         goes where the robot faces), not the own goal by the eyes, not out over a side line within
-        a kick's roll."""
+        a kick's roll; a clearing from the own goal mouth (:mod:`agents.behavior.aim`) only faces its
+        aim (``heading_error``) and may go out: a throw-in there is no goal."""
+        if clearing:
+            return abs(heading_error) <= KICK_ALIGN_RAD and self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S
         on_target = _on_target(pose.theta, ball_xy, goal_x)
         if math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M:
             if not on_target:
@@ -415,8 +422,9 @@ class TeamAgent:
             return False
         if self.now_s - self._own_goal_ahead_s < OWN_GOAL_MEMORY_S:
             return False
-        roll_y = ball_xy[1] + math.sin(pose.theta) * KICK_ROLL_M
-        if not on_target and abs(roll_y) > FIELD.half_width - SIDELINE_MARGIN_M and roll_y * math.sin(pose.theta) > 0:
+        roll_y = ball_xy[1] + math.sin(pose.theta) * skills.KICK_ROLL_M
+        if (not on_target and abs(roll_y) > FIELD.half_width - skills.SIDELINE_MARGIN_M
+                and roll_y * math.sin(pose.theta) > 0):
             return False
         return True
 

@@ -1,0 +1,73 @@
+"""Where a striker plays the ball: at the opponent goal, or cleared to the side from its own goal mouth.
+
+A ball just in front of the own goal cannot be reached from behind on the line to the
+opponent goal: the spot behind it lies in or beside the own goal, and a robot coming at it
+from the field pushes it over its own line. Such a ball is cleared instead, toward the
+nearer side of the field, turned from the goal line toward the opponent goal by
+:data:`CLEAR_MIN_TURN_RAD` plus :data:`CLEAR_TURN_PER_M` per metre of depth, and more where
+a kick's roll would otherwise leave the field and the spot behind the ball still lies in
+front of the line.
+
+Computed in the frame where the own goal is at x = -3 (``attack`` = +1 when the robot
+defends the blue goal, -1 otherwise) and mirrored; field frame, m and rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from agents.behavior.skills import BEHIND_BALL_M, KICK_ROLL_M, SIDELINE_MARGIN_M
+from world.field import FIELD
+
+CLEAR_DEPTH_M = 0.8  # ours: a ball nearer its own goal line than this ...
+CLEAR_HALF_WIDTH_M = FIELD.goal_area_width / 2 + 0.2  # ... and this near the goal's axis is cleared
+CLEAR_MIN_TURN_RAD = math.radians(40.0)  # ours: a clearing turns at least this far from the goal line ...
+CLEAR_TURN_PER_M = math.radians(40.0)  # ... and this much more per metre of depth ...
+CLEAR_MAX_TURN_RAD = math.radians(80.0)  # ... and more, up to this, to keep the roll in the field
+BEHIND_MIN_DEPTH_M = 0.05  # ... as long as the spot behind the ball stays this far in front of the line
+PUSH_DEPTH_M = 0.4  # ours: nearer the line, a kick gone astray (back between the feet) is a goal: push
+AIM_DISTANCE_M = 2.0  # the aim point of a clearing lies this far from the ball
+CENTRE_BAND_M = 0.2  # a ball this near the goal's axis is cleared away from the robot's side
+
+
+@dataclass(frozen=True)
+class Aim:
+    """Where to play the ball (field frame, m); whether it is a clearing, and whether the ball
+    lies so near the own goal line (:data:`PUSH_DEPTH_M`) that it is pushed, not kicked."""
+
+    x: float
+    y: float
+    clearing: bool
+    push: bool = False
+
+    @property
+    def xy(self) -> tuple[float, float]:
+        return (self.x, self.y)
+
+
+def kick_aim(ball_xy: tuple[float, float], attack: float, robot_y: float) -> Aim:
+    """The aim for a ball at ``ball_xy``: the opponent goal's centre, or a clearing point when the
+    ball lies in front of the own goal (see the module). ``robot_y``: the robot's y, which decides
+    the side a ball on the goal's axis is cleared to (away from the robot)."""
+    bx, by = ball_xy
+    depth = attack * bx + FIELD.half_length  # from the own goal line into the field
+    if depth >= CLEAR_DEPTH_M or abs(by) > CLEAR_HALF_WIDTH_M:
+        return Aim(attack * FIELD.half_length, 0.0, False)
+    if abs(by) >= CENTRE_BAND_M:
+        side = math.copysign(1.0, by)
+    else:
+        side = 1.0 if by >= robot_y else -1.0
+    return Aim(*_clearing_point(bx, by, depth, attack, side), True, depth < PUSH_DEPTH_M)
+
+
+def _clearing_point(bx: float, by: float, depth: float, attack: float, side: float) -> tuple[float, float]:
+    """The clearing's aim: turned from the goal line toward the opponent by the least turn for the
+    depth, more if the roll would leave the field and the spot behind the ball has room for it."""
+    least = CLEAR_MIN_TURN_RAD + max(depth, 0.0) * CLEAR_TURN_PER_M
+    room = (depth - BEHIND_MIN_DEPTH_M) / BEHIND_BALL_M
+    most = max(least, min(CLEAR_MAX_TURN_RAD, math.asin(min(max(room, 0.0), 1.0))))
+    inside = (FIELD.half_width - SIDELINE_MARGIN_M - abs(by)) / KICK_ROLL_M
+    wanted = math.acos(min(max(inside, -1.0), 1.0))
+    turn = min(max(wanted, least), most)
+    return bx + attack * AIM_DISTANCE_M * math.sin(turn), by + side * AIM_DISTANCE_M * math.cos(turn)
