@@ -9,7 +9,9 @@ Definitions (playing time is the game state PLAYING before the penalty shoot-out
 shoot-out's kicks count for nothing here):
 
 - ``goals``: goals the team scored in playing time (an opponent's own goal included);
-  ``own_goals``: goals into the team's own goal that one of its robots touched last;
+  ``own_goals``: goals into the team's own goal that one of its robots touched last, unless
+  the scoring team's last touch before was a shot on target (a save that failed, or any
+  deflection of a shot that was going in, leaves the goal to the shooter, as in football);
 - ``shots_on_target``: touches of the team after which (before the next touch) the ball
   moves toward the goal line inside the goal area the team attacks (the 0.6 x 2.2 m area
   and the goal behind it); one per touch, so a shot that scores counts once;
@@ -111,13 +113,15 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
     play_events = events[:cut]
     shootout_s = float(events[cut]["time_s"]) if cut < len(events) else math.inf
     teams = {side: dict.fromkeys(TEAM_KEYS, 0) for side in SIDES}
+    touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in play_events if e["kind"] == "touch"]
+    shots = _shots_on_target(touches, log, shootout_s)
 
     for event in play_events:
         kind = event["kind"]
         if kind == "goal":
             teams[event["team"]]["goals"] += 1
             toucher = side_of(event.get("last_toucher"))
-            if toucher is not None and toucher != event["team"]:
+            if toucher is not None and toucher != event["team"] and not _deflected_shot(event, touches, shots):
                 teams[toucher]["own_goals"] += 1
         elif kind == "touch" and side_of(event.get("robot")):
             teams[side_of(event["robot"])]["touches"] += 1
@@ -137,7 +141,9 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
         for key in ("sent", "dropped", "received"):
             teams[side][f"radio_{key}"] = int(radio[key]) if radio else None
 
-    playing_seconds = _from_log(teams, play_events, log, shootout_s)
+    for side in SIDES:
+        teams[side]["shots_on_target"] = sum(touches[k][1] == side for k in shots)
+    playing_seconds = _from_log(teams, touches, log, shootout_s)
     return {"playing_seconds": round(playing_seconds, 3), "restart_max_s": _restart_max_s(play_events), **teams}
 
 
@@ -164,34 +170,62 @@ def _shootout_index(events: Sequence[Mapping]) -> int:
     return len(events)
 
 
-def _from_log(teams: dict, play_events: Sequence[Mapping], log: Mapping[str, np.ndarray], shootout_s: float) -> float:
-    """Possession, shots on target and pose-estimate errors into ``teams``; returns the playing seconds."""
+def _playing_rows(log: Mapping[str, np.ndarray], shootout_s: float) -> np.ndarray:
+    """The log rows (from 1 on) in playing time before the shoot-out."""
     time_s = np.asarray(log["time_s"], dtype=float)
     state = np.asarray(log["state"])
+    rows = np.arange(1, time_s.size)
+    return rows[(state[rows] == PLAYING) & (time_s[rows] <= shootout_s + TIME_TOLERANCE_S)]
+
+
+def _last_touches(touches: Sequence[tuple[float, str | None]], time_s: np.ndarray) -> np.ndarray:
+    """The index of the touch each time's ball was last touched by (-1: none yet)."""
+    touch_times = np.array([t for t, _ in touches], dtype=float)
+    return np.searchsorted(touch_times, time_s + TIME_TOLERANCE_S, side="right") - 1
+
+
+def _shots_on_target(touches: Sequence[tuple[float, str | None]], log: Mapping[str, np.ndarray],
+                     shootout_s: float) -> set[int]:
+    """The indices of the touches that were shots on target (see the module)."""
+    rows = _playing_rows(log, shootout_s)
+    time_s = np.asarray(log["time_s"], dtype=float)
     half = np.asarray(log["half"])
     ball = np.asarray(log["ball"], dtype=float)
-    rows = np.arange(1, time_s.size)
-    rows = rows[(state[rows] == PLAYING) & (time_s[rows] <= shootout_s + TIME_TOLERANCE_S)]
-    dt = time_s[rows] - time_s[rows - 1]
-
-    touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in play_events if e["kind"] == "touch"]
-    touch_times = np.array([t for t, _ in touches], dtype=float)
-    # the touch each row's ball was last touched by (-1: none yet)
-    last = np.searchsorted(touch_times, time_s[rows] + TIME_TOLERANCE_S, side="right") - 1
+    last = _last_touches(touches, time_s[rows])
     owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
-
-    held = {side: float(dt[owner == side].sum()) for side in SIDES}
-    total = held["home"] + held["away"]
     step = ball[rows, :2] - ball[rows - 1, :2]
     played = np.hypot(step[:, 0], step[:, 1]) < PLACED_STEP_M
     x, y = ball[rows, 0], ball[rows, 1]
+    shots: set[int] = set()
     for side in SIDES:
-        teams[side]["possession"] = round(held[side] / total, 4) if total > 0 else None
         g = np.array([attack_direction(side, int(h)) for h in half[rows]], dtype=float)
         in_area = (g * x >= FIELD.goal_area_x) & (g * x <= FIELD.half_length + FIELD.goal_depth) & (
             np.abs(y) <= FIELD.goal_area_half_width)
         shot_rows = in_area & (g * step[:, 0] > GOALWARD_STEP_M) & played & (owner == side)
-        teams[side]["shots_on_target"] = int(np.unique(last[shot_rows]).size)
+        shots.update(int(k) for k in np.unique(last[shot_rows]))
+    return shots
+
+
+def _deflected_shot(goal: Mapping, touches: Sequence[tuple[float, str | None]], shots: set[int]) -> bool:
+    """Whether the scoring team's last touch before ``goal`` was a shot on target."""
+    scorer = goal["team"]
+    before = [k for k, (t, side) in enumerate(touches) if t <= float(goal["time_s"]) + TIME_TOLERANCE_S
+              and side == scorer]
+    return bool(before) and before[-1] in shots
+
+
+def _from_log(teams: dict, touches: Sequence[tuple[float, str | None]], log: Mapping[str, np.ndarray],
+              shootout_s: float) -> float:
+    """Possession and pose-estimate errors into ``teams``; returns the playing seconds."""
+    time_s = np.asarray(log["time_s"], dtype=float)
+    rows = _playing_rows(log, shootout_s)
+    dt = time_s[rows] - time_s[rows - 1]
+    last = _last_touches(touches, time_s[rows])
+    owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
+    held = {side: float(dt[owner == side].sum()) for side in SIDES}
+    total = held["home"] + held["away"]
+    for side in SIDES:
+        teams[side]["possession"] = round(held[side] / total, 4) if total > 0 else None
     _pose_errors(teams, log, rows)
     _stillness(teams, log, rows)
     return float(dt.sum())

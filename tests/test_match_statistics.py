@@ -93,7 +93,8 @@ def test_counts_from_the_events(statistics: dict) -> None:
     home, away = statistics["home"], statistics["away"]
     assert set(home) == set(TEAM_KEYS) == set(away)
     assert (home["goals"], away["goals"]) == (1, 0)
-    assert (home["own_goals"], away["own_goals"]) == (0, 1)  # away_0 touched the ball into its own goal last
+    # away_0 touched the ball last, but home_0's touch before was a shot on target: home_0's goal
+    assert (home["own_goals"], away["own_goals"]) == (0, 0)
     assert (home["touches"], away["touches"]) == (2, 1)  # the shoot-out's touch does not count
     assert (home["balls_out"], away["balls_out"]) == (1, 0)
     assert (home["falls"], away["falls"]) == (0, 2)
@@ -101,6 +102,27 @@ def test_counts_from_the_events(statistics: dict) -> None:
     assert (home["faults"], away["faults"]) == (0, 3)
     assert (home["radio_sent"], home["radio_dropped"], home["radio_received"]) == (10, 2, 9)
     assert away["radio_sent"] == 0
+
+
+def test_an_own_goal_is_a_defender_s_last_touch_after_no_shot_on_target() -> None:
+    rows = [(0.0, PLAYING, 1, 1.0, 0.5), (1.0, PLAYING, 1, 0.8, 0.5),  # home_0 plays it back: no shot
+            (2.0, PLAYING, 1, 2.2, 0.3), (3.0, PLAYING, 1, 2.7, 0.2),  # away_0 clears it into its own goal
+            (4.0, PLAYING, 1, 3.1, 0.2)]
+    log = hand_built_log()
+    log.update(time_s=np.array([r[0] for r in rows]), state=np.array([r[1] for r in rows], dtype=np.int8),
+               half=np.array([r[2] for r in rows], dtype=np.int8),
+               ball=np.array([(r[3], r[4], 0.0325) for r in rows]))
+    for key in ("robots", "fallen", "estimates"):
+        log[key] = log[key][: len(rows)]
+    events = [
+        {"time_s": 0.5, "kind": "touch", "robot": "home_0", "x": 1.0, "y": 0.5},
+        {"time_s": 1.5, "kind": "touch", "robot": "away_0", "x": 0.9, "y": 0.5},
+        {"time_s": 4.0, "kind": "goal", "team": "home", "goal": "yellow", "last_toucher": "away_0",
+         "score": {"home": 1, "away": 0}},
+    ]
+    statistics = match_statistics(events, log, {})
+    assert (statistics["home"]["goals"], statistics["away"]["own_goals"]) == (1, 1)
+    assert statistics["home"]["shots_on_target"] == 0
 
 
 def test_shots_possession_and_playing_time_from_the_log(statistics: dict) -> None:
