@@ -6,7 +6,8 @@ from the field pushes it over its own line. Such a ball is cleared instead, towa
 nearer side of the field, turned from the goal line toward the opponent goal by
 :data:`CLEAR_MIN_TURN_RAD` plus :data:`CLEAR_TURN_PER_M` per metre of depth, and more where
 a kick's roll would otherwise leave the field and the spot behind the ball still lies in
-front of the line.
+front of the line. Within :data:`PUSH_DEPTH_M` of the line the ball is pushed there, not
+kicked: a kick that goes astray so near the goal is a goal.
 
 Computed in the frame where the own goal is at x = -3 (``attack`` = +1 when the robot
 defends the blue goal, -1 otherwise) and mirrored; field frame, m and rad.
