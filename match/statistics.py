@@ -114,7 +114,10 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
     shootout_s = float(events[cut]["time_s"]) if cut < len(events) else math.inf
     teams = {side: dict.fromkeys(TEAM_KEYS, 0) for side in SIDES}
     touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in play_events if e["kind"] == "touch"]
-    shots = _shots_on_target(touches, log, shootout_s)
+    rows = _playing_rows(log, shootout_s)
+    last = _last_touches(touches, np.asarray(log["time_s"], dtype=float)[rows])
+    owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
+    shots = _shots_on_target(log, rows, last, owner)
 
     for event in play_events:
         kind = event["kind"]
@@ -143,7 +146,7 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
 
     for side in SIDES:
         teams[side]["shots_on_target"] = sum(touches[k][1] == side for k in shots)
-    playing_seconds = _from_log(teams, touches, log, shootout_s)
+    playing_seconds = _from_log(teams, log, rows, owner)
     return {"playing_seconds": round(playing_seconds, 3), "restart_max_s": _restart_max_s(play_events), **teams}
 
 
@@ -184,15 +187,12 @@ def _last_touches(touches: Sequence[tuple[float, str | None]], time_s: np.ndarra
     return np.searchsorted(touch_times, time_s + TIME_TOLERANCE_S, side="right") - 1
 
 
-def _shots_on_target(touches: Sequence[tuple[float, str | None]], log: Mapping[str, np.ndarray],
-                     shootout_s: float) -> set[int]:
-    """The indices of the touches that were shots on target (see the module)."""
-    rows = _playing_rows(log, shootout_s)
-    time_s = np.asarray(log["time_s"], dtype=float)
+def _shots_on_target(log: Mapping[str, np.ndarray], rows: np.ndarray, last: np.ndarray,
+                     owner: np.ndarray) -> set[int]:
+    """The indices of the touches that were shots on target (see the module); ``rows``: the playing
+    rows, ``last``: the touch each of them was last touched by (-1: none), ``owner``: its team."""
     half = np.asarray(log["half"])
     ball = np.asarray(log["ball"], dtype=float)
-    last = _last_touches(touches, time_s[rows])
-    owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
     step = ball[rows, :2] - ball[rows - 1, :2]
     played = np.hypot(step[:, 0], step[:, 1]) < PLACED_STEP_M
     x, y = ball[rows, 0], ball[rows, 1]
@@ -214,14 +214,11 @@ def _deflected_shot(goal: Mapping, touches: Sequence[tuple[float, str | None]], 
     return bool(before) and before[-1] in shots
 
 
-def _from_log(teams: dict, touches: Sequence[tuple[float, str | None]], log: Mapping[str, np.ndarray],
-              shootout_s: float) -> float:
-    """Possession and pose-estimate errors into ``teams``; returns the playing seconds."""
+def _from_log(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray, owner: np.ndarray) -> float:
+    """Possession and pose-estimate errors into ``teams``; returns the playing seconds (``rows`` and
+    ``owner`` as for :func:`_shots_on_target`)."""
     time_s = np.asarray(log["time_s"], dtype=float)
-    rows = _playing_rows(log, shootout_s)
     dt = time_s[rows] - time_s[rows - 1]
-    last = _last_touches(touches, time_s[rows])
-    owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
     held = {side: float(dt[owner == side].sum()) for side in SIDES}
     total = held["home"] + held["away"]
     for side in SIDES:
