@@ -14,7 +14,10 @@ shoot-out's kicks count for nothing here):
   deflection of a shot that was going in, leaves the goal to the shooter, as in football);
 - ``shots_on_target``: touches of the team after which (before the next touch) the ball
   moves toward the goal line inside the goal area the team attacks (the 0.6 x 2.2 m area
-  and the goal behind it); one per touch, so a shot that scores counts once;
+  and the goal behind it), or leaves on a line that crosses that goal line between the
+  posts fast enough to roll there (its motion over :data:`SHOT_WINDOW_S` after the touch,
+  or until another robot's touch; so a shot deflected at once still counts); one per
+  touch, so a shot that scores counts once;
 - ``touches``: ball touches in playing time (the referee's touch events);
 - ``possession``: share of playing time in which the team touched the ball last (time
   before the first touch counts for neither team; NaN-free: None when nobody touched it);
@@ -61,6 +64,8 @@ LOST_M = 0.5  # a pose estimate farther off than this is lost
 STILL_M = 0.1  # a robot that stays within this of a place ...
 STILL_RAD = math.radians(15.0)  # ... and of a heading, stands still
 RESTART_KINDS = ("kickoff", "throw_in")
+SHOT_WINDOW_S = 0.4  # a shot's line: the ball's motion over this long after the touch ...
+BALL_DECEL_MPS2 = 0.4  # ... and its reach at this rolling deceleration (measured: 1.25 m/s rolls 2 m)
 
 TEAM_KEYS = (
     "goals",
@@ -113,11 +118,12 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
     play_events = events[:cut]
     shootout_s = float(events[cut]["time_s"]) if cut < len(events) else math.inf
     teams = {side: dict.fromkeys(TEAM_KEYS, 0) for side in SIDES}
-    touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in play_events if e["kind"] == "touch"]
+    touch_events = [e for e in play_events if e["kind"] == "touch"]
+    touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in touch_events]
     rows = _playing_rows(log, shootout_s)
     last = _last_touches(touches, np.asarray(log["time_s"], dtype=float)[rows])
     owner = np.array([touches[k][1] if k >= 0 else None for k in last], dtype=object)
-    shots = _shots_on_target(log, rows, last, owner)
+    shots = _shots_on_target(log, rows, last, owner) | _shots_by_line(log, touch_events)
 
     for event in play_events:
         kind = event["kind"]
@@ -203,6 +209,41 @@ def _shots_on_target(log: Mapping[str, np.ndarray], rows: np.ndarray, last: np.n
             np.abs(y) <= FIELD.goal_area_half_width)
         shot_rows = in_area & (g * step[:, 0] > GOALWARD_STEP_M) & played & (owner == side)
         shots.update(int(k) for k in np.unique(last[shot_rows]))
+    return shots
+
+
+def _shots_by_line(log: Mapping[str, np.ndarray], touch_events: Sequence[Mapping]) -> set[int]:
+    """The indices of the touches after which the ball's line crosses the attacked goal line between the
+    posts, fast enough to roll there (see the module)."""
+    time_s = np.asarray(log["time_s"], dtype=float)
+    ball = np.asarray(log["ball"], dtype=float)
+    half = np.asarray(log["half"])
+    state = np.asarray(log["state"])
+    shots: set[int] = set()
+    for k, touch in enumerate(touch_events):
+        side, robot, t0 = side_of(touch.get("robot")), touch.get("robot"), float(touch["time_s"])
+        end_s = t0 + SHOT_WINDOW_S
+        for later in touch_events[k + 1:]:
+            if float(later["time_s"]) >= end_s:
+                break
+            if later.get("robot") != robot:
+                end_s = float(later["time_s"])
+                break
+        first = int(np.searchsorted(time_s, t0 + TIME_TOLERANCE_S, side="right")) - 1
+        last = int(np.searchsorted(time_s, end_s + TIME_TOLERANCE_S, side="right")) - 1
+        if side is None or first < 0 or last <= first or not (state[first:last + 1] == PLAYING).all():
+            continue
+        moved = ball[last, :2] - ball[first, :2]
+        speed = math.hypot(*moved) / (time_s[last] - time_s[first])
+        g = attack_direction(side, int(half[first]))
+        steps = np.diff(ball[first:last + 1, :2], axis=0)
+        if g * moved[0] <= 0.0 or (np.hypot(steps[:, 0], steps[:, 1]) >= PLACED_STEP_M).any():
+            continue
+        to_line = (g * FIELD.half_length - ball[last, 0]) / moved[0]  # in units of ``moved``
+        cross_y = ball[last, 1] + to_line * moved[1]
+        reach = speed * speed / (2.0 * BALL_DECEL_MPS2)
+        if abs(cross_y) <= FIELD.goal_inner_width / 2.0 and to_line * math.hypot(*moved) <= reach:
+            shots.add(k)
     return shots
 
 

@@ -197,3 +197,33 @@ def test_a_field_player_counts_in_the_field_figures_where_a_goalkeeper_does_not(
     assert statistics["away"]["longest_still_field_s"] == 0.0
     assert home["field_lost_share"] == home["lost_share"] == pytest.approx(1 / 9, abs=1e-4)
     assert home["field_position_error_mean_m"] == home["position_error_mean_m"]
+
+
+def kicked_ball_log(start_xy: tuple[float, float], velocity: tuple[float, float], seconds: float) -> dict:
+    """A hand-built log with 40 ms rows of a ball rolling in a straight line, in half 1's playing time."""
+    time_s = np.arange(0.0, seconds, 0.04)
+    log = hand_built_log()
+    log.update(time_s=time_s, state=np.full(time_s.size, PLAYING, dtype=np.int8),
+               half=np.ones(time_s.size, dtype=np.int8),
+               ball=np.stack([start_xy[0] + velocity[0] * time_s, start_xy[1] + velocity[1] * time_s,
+                              np.full(time_s.size, 0.0325)], axis=1))
+    for key in ("robots", "fallen", "estimates"):
+        log[key] = np.repeat(log[key][:1], time_s.size, axis=0)
+    return log
+
+
+@pytest.mark.parametrize(("velocity_y", "own_goal"), [(-0.05, False), (-0.9, True)])
+def test_a_shot_deflected_at_once_is_the_shooter_s_goal(velocity_y: float, own_goal: bool) -> None:
+    # away attacks -x in half 1: away_0 kicks from (-1.8, -0.2) at 1.5 m/s toward its target; home_0 touches
+    # the ball 0.08 s later and it goes in. On a line between the posts it was a shot on target (the area rule
+    # never sees it: the next touch comes long before the goal area); aimed wide, home_0 turned it in.
+    log = kicked_ball_log((-1.8, -0.2), (-1.5, velocity_y), 1.0)
+    events = [
+        {"time_s": 0.0, "kind": "touch", "robot": "away_0", "x": -1.8, "y": -0.2},
+        {"time_s": 0.08, "kind": "touch", "robot": "home_0", "x": -1.92, "y": -0.2},
+        {"time_s": 0.96, "kind": "goal", "team": "away", "goal": "blue", "last_toucher": "home_0",
+         "score": {"home": 0, "away": 1}},
+    ]
+    statistics = match_statistics(events, log, {})
+    assert statistics["home"]["own_goals"] == int(own_goal)
+    assert statistics["away"]["shots_on_target"] == int(not own_goal)
