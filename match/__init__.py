@@ -6,6 +6,8 @@ use, so that importing :mod:`match.protocol` (what agents may use) stays free of
 
 from __future__ import annotations
 
+import world  # noqa: F401 - first: it caps numpy's SIMD kernels before numpy is imported
+
 __all__ = ["RobotStadiumEnv", "parallel_env"]
 
 

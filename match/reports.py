@@ -44,7 +44,9 @@ class ReportReader:
             return None
         try:
             return read()
-        except Exception as error:  # a report is for the log only: it must not end the match
+        except KeyboardInterrupt:
+            raise
+        except BaseException as error:  # noqa: B036 - a report is for the log only: it must not end the match
             self.failures[agent, kind] += 1
             if self.failures[agent, kind] == 1:
                 log.warning("%s of %s failed (%s: %s); the log records nothing for it when it fails "
@@ -62,3 +64,8 @@ def _report_of(policy: Policy) -> Callable[[], AgentReport | None] | None:
     if not isinstance(policy, AgentReporter):
         return None
     return lambda: AgentReport.check(policy.report())
+
+
+def read_reports(reader: ReportReader) -> tuple[dict[str, PoseTuple | None], dict[str, AgentReport | None]]:
+    """Every robot's pose estimate and agent report, read now."""
+    return reader.estimates(), reader.reports()

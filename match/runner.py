@@ -20,11 +20,11 @@ Outputs in ``out_dir``: ``summary.json`` (with each team's match statistics, see
 
 from __future__ import annotations
 
+import importlib
 import json
 import logging
 import platform
 import time
-import traceback
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from importlib import metadata
@@ -34,14 +34,15 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from tqdm import tqdm
 
+from match.errors import InvalidActionError
 from match.events import EventKind, MatchEvent
 from match.game import Match, MatchConfig
 from match.log import MatchLog
-from match.protocol.actions import Action, parse_action
+from match.controllers import Controllers, Decision, InProcessControllers, PolicyFault, ProcessControllers
+from match.protocol.actions import Action
 from match.protocol.game_control import SecondaryState
 from match.protocol.ids import Side
-from match.protocol.policy import Policy
-from match.reports import ReportReader
+from match.protocol.policy import Policy, PoseTuple
 from match.statistics import TeamRadio, match_statistics
 
 log = logging.getLogger(__name__)
@@ -68,9 +69,11 @@ class ObservationWatcher(MatchObserver, Protocol):
     Evaluation only: it must not hand anything back to a policy.
     """
 
-    def observed(self, match: Match, observations: Mapping[str, Mapping[str, Any]]) -> None:
+    def observed(self, match: Match, observations: Mapping[str, Mapping[str, Any]],
+                 estimates: Mapping[str, PoseTuple | None]) -> None:
         """Called every step right after :meth:`decided`, with the observations (agent id -> the
-        observation dict) the policies have just acted on; the world has not moved since they were taken."""
+        observation dict) the policies have just acted on and their pose estimates after acting (agent
+        id -> estimate, None: none); the world has not moved since the observations were taken."""
 
 
 @dataclass
@@ -78,19 +81,15 @@ class FaultRecord:
     counts: dict[str, int] = field(default_factory=dict)
     details: list[dict] = field(default_factory=list)
 
-    def add(self, agent: str, time_s: float, error: BaseException) -> MatchEvent | None:
-        self.counts[agent] = self.counts.get(agent, 0) + 1
-        if self.counts[agent] > FAULT_DETAILS_PER_AGENT:
+    def add(self, fault: PolicyFault, time_s: float, step: int) -> MatchEvent | None:
+        """Count ``fault``; its event (for the first :data:`FAULT_DETAILS_PER_AGENT` of its robot), else None."""
+        self.counts[fault.agent] = self.counts.get(fault.agent, 0) + 1
+        if self.counts[fault.agent] > FAULT_DETAILS_PER_AGENT:
             return None
-        where = traceback.extract_tb(error.__traceback__)[-1] if error.__traceback__ else None
-        detail = {
-            "agent": agent,
-            "time_s": round(time_s, 3),
-            "error": f"{type(error).__name__}: {error}",
-            "where": f"{where.filename}:{where.lineno}" if where else None,
-        }
+        detail = {"agent": fault.agent, "step": step, "time_s": round(time_s, 3), "error": fault.error,
+                  "where": fault.where}
         self.details.append(detail)
-        log.warning("policy of %s failed at %.2f s: %s", agent, time_s, detail["error"])
+        log.warning("policy of %s failed at %.2f s: %s", fault.agent, time_s, fault.error)
         return MatchEvent(time_s, EventKind.FAULT, detail)
 
     def to_json(self) -> dict:
@@ -110,6 +109,8 @@ class MatchSummary:
     radio: dict
     faults: dict
     statistics: dict | None = None  # per team (match.statistics), when the match wrote its outputs
+    completed: bool = True  # False: the run stopped on an error or an interruption (``stopped_reason``)
+    stopped_reason: str | None = None
 
     @property
     def real_time_factor(self) -> float:
@@ -117,6 +118,8 @@ class MatchSummary:
 
     def to_json(self, config: MatchConfig) -> dict:
         return {
+            "completed": self.completed,
+            "stopped_reason": self.stopped_reason,
             "score": self.score,
             "shootout": self.shootout,
             "winner": self.winner,
@@ -136,12 +139,13 @@ class MatchSummary:
                 "shootout": config.referee.shootout,
             },
             "versions": package_versions(),
+            "machine": machine_description(),
         }
 
 
 def run_match(
     config: MatchConfig,
-    policies: Mapping[str, Policy],
+    policies: Mapping[str, Policy] | Controllers,
     *,
     seed: int = 0,
     out_dir: Path | None = None,
@@ -153,15 +157,28 @@ def run_match(
 ) -> MatchSummary:
     """Play one match to the end (or ``max_steps``, or until ``observer`` is done) and write its outputs.
 
-    ``policy_seeds``: the seed each policy's ``reset`` gets (default: drawn from ``seed``).
+    ``policies``: agent id -> policy, called in this process, or :class:`~match.controllers.Controllers`
+    (e.g. controller processes), which the run closes when it ends. ``policy_seeds``: the seed
+    each policy's ``reset`` gets (default: drawn from ``seed``). The outputs are written
+    however the run ends; one stopped by an error or Ctrl-C has ``completed`` False in its
+    summary, and the error is raised again.
     """
-    match = match or Match(config)
-    missing = [a for a in match.agent_names if a not in policies]
+    controllers = policies if isinstance(policies, (InProcessControllers, ProcessControllers)) else None
+    controllers = controllers or InProcessControllers(policies)
+    try:
+        return _run(config, controllers, seed, out_dir, progress, max_steps, match or Match(config), observer,
+                    policy_seeds)
+    finally:
+        controllers.close()
+
+
+def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path | None, progress: bool,
+         max_steps: int | None, match: Match, observer: MatchObserver | None,
+         policy_seeds: Mapping[str, int] | None) -> MatchSummary:
+    missing = [a for a in match.agent_names if a not in controllers.agents]
     if missing:
-        raise ValueError(f"no policy for agents {missing}; policies given for {sorted(policies)}")
+        raise ValueError(f"no policy for agents {missing}; policies given for {sorted(controllers.agents)}")
     seeds = dict(policy_seeds) if policy_seeds is not None else default_policy_seeds(seed, match.agent_names)
-    for agent in match.agent_names:
-        policies[agent].reset(agent, int(seeds[agent]))
     out_dir = Path(out_dir) if out_dir is not None else None
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -169,61 +186,96 @@ def run_match(
     faults = FaultRecord()
     radio = TeamRadio()
     match_log = MatchLog(match.agent_names)
-    reports = ReportReader(policies)
     watcher = observer if isinstance(observer, ObservationWatcher) else None
     started = time.perf_counter()
-    observations = match.reset(seed)
-    _write_events(events_file, match.events)
     total_play_s = 2 * config.referee.half_seconds
     bar = tqdm(total=round(total_play_s), unit="s", desc="match", disable=not progress, dynamic_ncols=True)
     steps = 0
+    stopped: BaseException | None = None
     try:
-        match_log.record(match, reports.estimates(), reports.reports())
+        decision = controllers.start(seeds)
+        observations = match.reset(seed)
+        _write_events(events_file, match.events)
+        _record_faults(decision, faults, match, 0, events_file)
+        match_log.record(match, decision.estimates, decision.reports)
         while not match.finished and (max_steps is None or steps < max_steps):
             if observer is not None and observer.done(match):
                 break
-            actions: dict[str, Action | None] = {}
-            for agent in match.agent_names:
-                try:
-                    actions[agent] = parse_action(agent, policies[agent].act(observations[agent]))
-                except Exception as error:  # a failing policy must not end the match
-                    event = faults.add(agent, match.world.time_s, error)
-                    if event is not None:
-                        match.events.append(event)
-                        _write_events(events_file, [event])
-                    actions[agent] = None
+            decision = controllers.decide({a: observations[a] for a in match.agent_names})
+            _record_faults(decision, faults, match, steps, events_file)
+            actions = _playable(match, {agent: decision.actions.get(agent) for agent in match.agent_names}, faults,
+                                steps, events_file)
             if observer is not None:
                 observer.decided(match, actions)
             if watcher is not None:
-                watcher.observed(match, observations)
+                watcher.observed(match, observations, decision.estimates)
             result = match.step(actions)
             observations = result.observations
             radio.actions(actions)
             radio.observations(observations)
             steps += 1
             _write_events(events_file, result.events)
-            match_log.record(match, reports.estimates(), reports.reports())
+            match_log.record(match, decision.estimates, decision.reports)
             if progress and steps % PROGRESS_EVERY_STEPS == 0:
                 _update_bar(bar, match, total_play_s, time.perf_counter() - started)
+    except BaseException as error:  # the outputs are written all the same, then it is raised again
+        stopped = error
+        raise
     finally:
         if progress:
             _update_bar(bar, match, total_play_s, time.perf_counter() - started)
         bar.close()
         if events_file:
             events_file.close()
+        summary = _summarize(match, seed, time.perf_counter() - started, steps, faults, radio, stopped)
         if out_dir is not None:
-            match_log.save(out_dir / "match_log.npz")
-    wall = time.perf_counter() - started
-    summary = _summarize(match, seed, wall, steps, faults, radio)
-    if out_dir is not None:
-        with np.load(out_dir / "match_log.npz") as arrays:  # the statistics read what was written
-            statistics = match_statistics([e.to_json() for e in match.events], arrays,
-                                          {"radio": summary.radio, "faults": summary.faults})
-        summary = replace(summary, statistics=statistics)
-        (out_dir / "summary.json").write_text(json.dumps(summary.to_json(config), indent=2) + "\n", encoding="utf-8")
+            summary = _write_outputs(out_dir, config, match, match_log, summary)
     how = "finished" if match.finished else f"stopped after {steps} steps"
     log.info("match %s: %s in %.1f s of simulated time (%.2fx real time)", how, summary.score, summary.sim_seconds,
              summary.real_time_factor)
+    return summary
+
+
+def _record_faults(decision: Decision, faults: FaultRecord, match: Match, step: int, events_file) -> None:
+    for fault in decision.faults:
+        event = faults.add(fault, match.world.time_s, step)
+        if event is not None:
+            match.events.append(event)
+            _write_events(events_file, [event])
+
+
+def _playable(match: Match, actions: dict[str, Action | None], faults: FaultRecord, step: int,
+              events_file) -> dict[str, Action | None]:
+    """``actions`` with every one the match refuses (e.g. a walk past the walk limits) replaced by None (stand),
+    each a recorded fault: one robot's bad action never refuses the whole step."""
+    while True:
+        try:
+            match.check_actions(actions)
+            return actions
+        except InvalidActionError as error:
+            if actions.get(error.agent) is None:
+                raise
+            fault = PolicyFault(error.agent, f"{type(error).__name__}: {error}")
+            _record_faults(Decision({}, (fault,)), faults, match, step, events_file)
+            actions[error.agent] = None
+
+
+def _write_outputs(out_dir: Path, config: MatchConfig, match: Match, match_log: MatchLog,
+                   summary: MatchSummary) -> MatchSummary:
+    """Write ``match_log.npz`` and ``summary.json``; the summary with the statistics (read from what was written;
+    None for a run that stopped before they could be computed)."""
+    match_log.save(out_dir / "match_log.npz")
+    try:
+        with np.load(out_dir / "match_log.npz") as arrays:
+            statistics = match_statistics([e.to_json() for e in match.events], arrays,
+                                          {"radio": summary.radio, "faults": summary.faults})
+    except Exception:
+        if summary.completed:
+            raise
+        log.warning("no statistics for a match that stopped early (%s)", summary.stopped_reason, exc_info=True)
+        statistics = None
+    summary = replace(summary, statistics=statistics)
+    (out_dir / "summary.json").write_text(json.dumps(summary.to_json(config), indent=2) + "\n", encoding="utf-8")
     return summary
 
 
@@ -250,7 +302,8 @@ def _update_bar(bar, match: Match, total_play_s: float, wall_s: float) -> None:
     bar.set_postfix_str(f"score {score}, sim {match.world.time_s:.0f} s, {match.world.time_s / max(wall_s, 1e-9):.2f}x")
 
 
-def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRecord, radio: TeamRadio) -> MatchSummary:
+def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRecord, radio: TeamRadio,
+               stopped: BaseException | None = None) -> MatchSummary:
     referee = match.referee
     shootout = None
     if referee.shootout is not None:
@@ -270,7 +323,15 @@ def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRe
         events_count=len(match.events),
         radio={**match.radio.counts.to_json(), "by_side": radio.to_json()},
         faults=faults.to_json(),
+        completed=stopped is None,
+        stopped_reason=None if stopped is None else _reason(stopped),
     )
+
+
+def _reason(error: BaseException) -> str:
+    if isinstance(error, KeyboardInterrupt):
+        return "interrupted"
+    return f"{type(error).__name__}: {error}"[:300]
 
 
 def package_versions() -> dict:
@@ -282,3 +343,36 @@ def package_versions() -> dict:
         except metadata.PackageNotFoundError:
             versions[package] = None
     return versions
+
+
+def machine_description() -> dict:
+    """What a rerun needs to know about this machine: the CPU and numpy's SIMD features in use.
+
+    Runs are byte-identical on one machine and software stack; another CPU or another numpy
+    may take other SIMD paths (see the README's section on determinism).
+    """
+    cpu = platform.processor() or None
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as info:
+            names = [line.split(":", 1)[1].strip() for line in info if line.startswith("model name")]
+        cpu = names[0] if names else cpu
+    except OSError:
+        pass
+    return {"cpu": cpu, "architecture": platform.machine(), "system": platform.system(),
+            "numpy_simd": numpy_simd_features()}
+
+
+def numpy_simd_features() -> list[str] | None:
+    """The SIMD extensions numpy uses here (its baseline and those its dispatched kernels found), None if unknown."""
+    for module_name in ("numpy._core._multiarray_umath", "numpy.core._multiarray_umath"):
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError:
+            continue
+        found = getattr(module, "__cpu_features__", None)
+        baseline = getattr(module, "__cpu_baseline__", [])
+        if found is None:
+            return None
+        dispatch = getattr(module, "__cpu_dispatch__", list(found))
+        return sorted(set(baseline) | {name for name in dispatch if found.get(name)})
+    return None

@@ -13,3 +13,5 @@
 The concerns import :mod:`scenarios.common` but not each other; only the command line puts
 them together (import-linter contracts in pyproject.toml).
 """
+
+import world  # noqa: F401,E402 - first: it caps numpy's SIMD kernels before numpy is imported

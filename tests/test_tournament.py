@@ -153,8 +153,9 @@ def test_resume_refuses_other_settings_naming_both(one_worker: Path, tmp_path: P
 
 @pytest.mark.render
 def test_a_crashing_match_fails_alone_and_a_raising_policy_is_a_fault(tmp_path: Path) -> None:
+    # in process, a policy that ends its process ends its match's worker
     policies = ("tests.user_policies:ExitsAtHome", "tests.user_policies:RaisesEveryTenth")
-    assert tournament(tmp_path, "--workers", "2", policies=policies) == cli.EXIT_OK
+    assert tournament(tmp_path, "--workers", "2", "--in-process", policies=policies) == cli.EXIT_OK
     crashed = json.loads((tmp_path / "runs" / "match_0000.json").read_text(encoding="utf-8"))
     assert crashed["status"] == "failed" and "exit code 3" in crashed["error"] and crashed["attempts"] == 2
     assert "exit code 3" in (tmp_path / "matches" / "000" / "error.txt").read_text(encoding="utf-8")
@@ -165,6 +166,20 @@ def test_a_crashing_match_fails_alone_and_a_raising_policy_is_a_fault(tmp_path: 
     assert summary["matches"]["failed"] == 1 and summary["failures"][0]["match"] == 0
     rows = (tmp_path / "results.csv").read_text(encoding="utf-8").splitlines()
     assert ",failed," in rows[1] and ",ok," in rows[2]
+
+
+@pytest.mark.render
+def test_in_controller_processes_a_policy_that_ends_its_process_costs_only_its_robots(tmp_path: Path) -> None:
+    policies = ("tests.user_policies:ExitsAtHome", "stand")
+    assert tournament(tmp_path, "--workers", "1", "--matches", "1", "--controller-per", "robot",
+                      policies=policies) == cli.EXIT_OK
+    played = json.loads((tmp_path / "runs" / "match_0000.json").read_text(encoding="utf-8"))
+    assert played["status"] == "ok"
+    summary = json.loads((tmp_path / "matches" / "000" / "summary.json").read_text(encoding="utf-8"))
+    assert summary["completed"] and summary["statistics"]["away"]["faults"] == 0
+    died = [d for d in summary["faults"]["details"] if d["error"].startswith("ControllerDied")]
+    assert died and {d["agent"] for d in died} == {f"home_{i}" for i in range(summary["config"]["home_players"])}
+    assert all("exit code 3" in d["error"] for d in died)
 
 
 @pytest.mark.parametrize("arguments, words", [

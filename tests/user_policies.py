@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import os
+import time
 
 import numpy as np
 
 from agents.team.messages import TeamMessage
-from match.protocol import CameraChoice, Motion, make_action
+from match.protocol import Action, CameraChoice, Motion, make_action
 
 
 class Spinner:
@@ -83,4 +84,66 @@ class RaisesEveryTenth(Spinner):
         self.steps += 1
         if self.steps % 10 == 0:
             raise RuntimeError(f"act {self.steps} of {self.agent_id} fails")
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
+
+
+class Counted(Spinner):
+    """Walks in a circle with its camera on; counts its acts and the observations' step times it saw."""
+
+    def act(self, observation: dict) -> dict:
+        self.steps += 1
+        return make_action(Motion.WALK, walk=(0.1, 0.0, 0.3), camera=CameraChoice.TOP)
+
+    def pose_estimate(self) -> tuple[float, float, float]:
+        return (float(self.steps % 100) / 100.0, 0.0, 0.0)  # counts the acts, for the log
+
+
+class Misbehaves(Spinner):
+    """Each act, in turn: raises, raises SystemExit, returns garbage, returns an Action with a bad field
+    (a head beyond its joint limits), returns a walk past the walk limits; reports a pose of two numbers."""
+
+    def act(self, observation: dict) -> object:
+        self.steps += 1
+        kind = self.steps % 5
+        if kind == 0:
+            raise RuntimeError("policy bug")
+        if kind == 1:
+            raise SystemExit(4)
+        if kind == 2:
+            return object()
+        if kind == 3:
+            return Action(Motion.STAND, head=(9.0, 0.0))
+        return make_action(Motion.WALK, walk=(0.3, 0.3, 0.0))
+
+    def pose_estimate(self) -> tuple[float, float]:
+        return (1.0, 2.0)
+
+
+class ExitsOften(Spinner):
+    """Ends its own process (``os._exit(5)``) on every 20th act."""
+
+    def act(self, observation: dict) -> dict:
+        self.steps += 1
+        if self.steps % 20 == 0:
+            os._exit(5)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
+
+
+class Sleeps(Spinner):
+    """Takes 2 s over every act (far past any step budget)."""
+
+    def act(self, observation: dict) -> dict:
+        time.sleep(2.0)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
+
+
+class Hoards(Spinner):
+    """Keeps 40 MB more on every act."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        super().reset(agent_id, seed)
+        self.hoard: list[np.ndarray] = []
+
+    def act(self, observation: dict) -> dict:
+        self.hoard.append(np.ones(5_000_000))
         return make_action(Motion.STAND, camera=CameraChoice.OFF)

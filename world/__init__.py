@@ -1,1 +1,32 @@
-"""The physical world of a match: field, robots, ball, cameras and sensors (no rules, no agents)."""
+"""The physical world of a match: field, robots, ball, cameras and sensors (no rules, no agents).
+
+Importing it first caps numpy's CPU-dispatched kernels at AVX2 (``NPY_DISABLE_CPU_FEATURES``,
+unless set already and unless numpy was imported before): numpy's AVX-512 kernels of the
+transcendental functions are other implementations than the AVX2 ones and may differ in the
+last bit, which a match, chaotic as it is, can turn into another game. Machines with and
+without AVX-512 then take the same numpy paths. :mod:`match` and :mod:`scenarios` import
+this package first.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from importlib import metadata
+
+# numpy 2 groups the x86 extensions in levels (X86_V4: AVX-512); numpy 1 names each one.
+_AVX512 = {2: "X86_V4 AVX512_ICL AVX512_SPR",
+           1: "AVX512F AVX512CD AVX512_KNL AVX512_KNM AVX512_SKX AVX512_CLX AVX512_CNL AVX512_ICL AVX512_SPR"}
+
+
+def _cap_numpy_simd() -> None:
+    if "numpy" in sys.modules or "NPY_DISABLE_CPU_FEATURES" in os.environ:
+        return
+    try:
+        major = int(metadata.version("numpy").split(".")[0])
+    except (metadata.PackageNotFoundError, ValueError):
+        return
+    os.environ["NPY_DISABLE_CPU_FEATURES"] = _AVX512[2 if major >= 2 else 1]
+
+
+_cap_numpy_simd()

@@ -151,6 +151,34 @@ def batch_options(args: argparse.Namespace):
     return BatchOptions(workers, args.backend, args.ray_address, args.resume, args.progress)
 
 
+def add_controller_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--in-process``, ``--controller-per``, ``--step-budget`` and ``--controller-memory`` (match.controllers)."""
+    from match.controllers import GROUPS, ControllerLimits
+
+    default = ControllerLimits()
+    parser.add_argument("--in-process", dest="controllers", action="store_false",
+                        help="run the policies in the simulator's process (for debugging; default: controller "
+                             "processes, held to a step budget and a memory limit)")
+    parser.add_argument("--controller-per", choices=GROUPS, default=default.group,
+                        help=f"one controller process per robot or per team (default {default.group})")
+    parser.add_argument("--step-budget", type=positive_float, default=default.step_budget_s, metavar="S",
+                        help=f"wall seconds a controller has to answer one step before its robots stand for it "
+                             f"(default {default.step_budget_s:g})")
+    parser.add_argument("--controller-memory", type=positive_float, default=default.memory_mb, metavar="MB",
+                        help=f"resident memory (MiB) past which a controller process is restarted "
+                             f"(default {default.memory_mb:g})")
+
+
+def controller_limits(args: argparse.Namespace):
+    """The :class:`~match.controllers.ControllerLimits` of :func:`add_controller_arguments`, None: in process."""
+    from match.controllers import ControllerLimits
+
+    if not args.controllers:
+        return None
+    return ControllerLimits(step_budget_s=args.step_budget, memory_mb=args.controller_memory,
+                            group=args.controller_per)
+
+
 def add_no_progress(parser: argparse.ArgumentParser) -> None:
     """``--no-progress``: ``args.progress`` is False."""
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")

@@ -6,7 +6,16 @@ import argparse
 from pathlib import Path
 
 from agents.policies import DEFAULT_POLICY
-from scenarios.cli.arguments import EXIT_OK, policy_name, policy_override, positive_float, positive_int, robot_or_all
+from scenarios.cli.arguments import (
+    EXIT_OK,
+    add_controller_arguments,
+    controller_limits,
+    policy_name,
+    policy_override,
+    positive_float,
+    positive_int,
+    robot_or_all,
+)
 
 NAME = "match"
 HELP = "run a full match headless between policies chosen by name"
@@ -41,6 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--video", type=robot_or_all, action="append", default=[], metavar="ROBOT",
                         help="write video_ROBOT.mp4: the robot's camera frames beside its vision debug overlay and a "
                              "field map with its estimate and true pose (repeatable; all: every robot)")
+    add_controller_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -56,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
     summary = run_lineup_match(
         args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
         seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
+        controllers=controller_limits(args),
     )
     score = summary.score
     result = f"home {score['home']} - {score['away']} away"

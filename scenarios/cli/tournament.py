@@ -12,9 +12,11 @@ from scenarios.cli.arguments import (
     EXIT_INTERRUPTED,
     EXIT_OK,
     add_batch_arguments,
+    add_controller_arguments,
     add_no_progress,
     add_out_dir,
     batch_options,
+    controller_limits,
     policy_name,
 )
 
@@ -52,6 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "matches/NNN) into its directory (repeatable)")
     # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds (part of the settings)
     parser.add_argument("--pauses", default=None, help=argparse.SUPPRESS)
+    add_controller_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -66,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
         except argparse.ArgumentTypeError as error:
             raise TournamentError(f"POLICY: {error}") from None
     settings = TournamentSettings(tuple(args.policies), args.matches, args.half_seconds, args.players, args.seed,
-                                  args.shootout, _pauses(args.pauses))
+                                  args.shootout, _pauses(args.pauses), controller_limits(args))
     plots_for = sorted({check_match_index(settings, index, "--plots-for") for index in args.plots_for})
     options = batch_options(args)
     try:

@@ -195,7 +195,8 @@ def _run_pool(context, ticks, waiting: collections.deque, work: Work, workers: i
 def _run_alone(context, ticks, work: Work, task: Any, progress: Progress, label: Callable[[Any], str]) -> TaskResult:
     """One task in a fresh process of its own: its result, its error, or how the process died."""
     receive, send = context.Pipe(duplex=False)
-    process = context.Process(target=_work_alone, args=(work, task, ticks, send), daemon=True)
+    # not daemonic: its match may start controller processes
+    process = context.Process(target=_work_alone, args=(work, task, ticks, send))
     process.start()
     send.close()  # the child holds the only sending end: its death reads as end of file
     message = None

@@ -8,11 +8,13 @@ so are the robots whose camera videos are asked for (``--video``, :mod:`scenario
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from agents.policies import DEFAULT_POLICY, make_policy, policy_factory
+from match.controllers import ControllerLimits, Controllers, InProcessControllers, ProcessControllers
 from match.game import Match, MatchConfig
 from match.protocol import Policy
 from match.protocol.ids import AgentId, Side, roster
@@ -20,6 +22,7 @@ from match.runner import MatchSummary, run_match
 
 
 ALL_ROBOTS = "all"  # --video all
+PRELOAD = ("agents.policies",)  # what the controller processes' server imports once
 
 
 class LineupError(ValueError):
@@ -57,6 +60,14 @@ class Lineup:
         except ValueError as error:
             raise LineupError(str(error)) from None
 
+    def controllers(self, agents: tuple[AgentId, ...], limits: ControllerLimits | None) -> Controllers:
+        """Every robot's policy in this process (``limits`` None), or in controller processes held to ``limits``."""
+        if limits is None:
+            return InProcessControllers(self.policies(agents))
+        self.check(agents)
+        factories = {str(a): functools.partial(make_policy, self.policy_name(a)) for a in agents}
+        return ProcessControllers(factories, limits, preload=PRELOAD)
+
 
 def video_robots(requested: Sequence[str], agents: tuple[AgentId, ...]) -> tuple[str, ...]:
     """The robots of ``requested`` (agent ids, or ``all``) in field order; :class:`LineupError`
@@ -90,28 +101,32 @@ def run_lineup_match(
     max_steps: int | None = None,
     referee: Mapping[str, object] | None = None,
     videos: Sequence[str] = (),
+    controllers: ControllerLimits | None = None,
 ) -> MatchSummary:
     """Play one match of ``home`` against ``away`` robots with the line-up's policies.
 
     ``referee``: referee settings other than the half's length and the shoot-out (e.g. the
     tournament's shorter pauses before the kick-off, for tests). ``videos``: robots (agent
     ids, or ``all``) whose camera videos are written into ``out_dir`` (``video_<agent>.mp4``).
+    ``controllers``: the limits of the policies' controller processes; None: the policies run in
+    this process.
     """
     config = match_config(home, away, half_seconds, shootout, referee)
     agents = roster(home, away)
     filmed = video_robots(videos, agents)  # refused here, before the world is built
     if filmed and out_dir is None:
         raise LineupError(f"--video {', '.join(videos)}: videos need an output directory")
-    policies = lineup.policies(agents)  # refused here too
+    lineup.check(agents)  # refused here too
     match = Match(config)
     try:
+        policies = lineup.controllers(agents, controllers)
         if not filmed:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
                              match=match)
         from scenarios.matches.video import VideoRecorder  # only when a video is asked for (not in tournaments)
 
         assert out_dir is not None
-        with VideoRecorder(out_dir, filmed, policies) as recorder:
+        with VideoRecorder(out_dir, filmed) as recorder:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
                              match=match, observer=recorder)
     finally:

@@ -40,9 +40,8 @@ from agents.vision.frame import CameraFrame
 from agents.vision.overlay import draw_overlay
 from agents.vision.pipeline import VisionPipeline
 from match.game import Match
-from match.protocol import Action, AgentId, Policy
+from match.protocol import Action, AgentId
 from match.protocol.policy import PoseTuple
-from match.reports import ReportReader
 from world.field import FIELD
 from world.teams import TeamColor
 
@@ -87,16 +86,14 @@ class _Video:
 class VideoRecorder:
     """Writes the camera videos of ``agents`` into ``out_dir`` (see the module docstring).
 
-    ``policies``: the match's policies, for the robots' own pose estimates (read as the
-    runner reads them, :class:`match.reports.ReportReader`). Use as a context manager, or
-    call :meth:`close`: the files are complete only then.
+    The robots' own pose estimates come with each step (:meth:`observed`), as the runner
+    read them. Use as a context manager, or call :meth:`close`: the files are complete only then.
     """
 
-    def __init__(self, out_dir: Path, agents: Sequence[str], policies: Mapping[str, Policy], camera_model: str = "exact"):
+    def __init__(self, out_dir: Path, agents: Sequence[str], camera_model: str = "exact"):
         self.out_dir = Path(out_dir)
         self.agents = tuple(agents)
         self.pipeline = VisionPipeline(camera_model)
-        self._estimates = ReportReader({agent: policies[agent] for agent in self.agents})
         self._videos = {agent: _Video(self.out_dir / video_name(agent)) for agent in self.agents}
         self._map = _field_map()
 
@@ -114,9 +111,9 @@ class VideoRecorder:
     def done(self, match: Match) -> bool:
         return False
 
-    def observed(self, match: Match, observations: Mapping[str, Mapping[str, Any]]) -> None:
+    def observed(self, match: Match, observations: Mapping[str, Mapping[str, Any]],
+                 estimates: Mapping[str, PoseTuple | None]) -> None:
         """A video frame for every recorded robot whose camera gave an image this step."""
-        estimates: dict[str, PoseTuple | None] | None = None
         for agent, video in self._videos.items():
             observation = observations.get(agent)
             if observation is None:
@@ -125,8 +122,6 @@ class VideoRecorder:
             if obs.image is None:
                 continue
             started = time.perf_counter()
-            if estimates is None:
-                estimates = self._estimates.estimates()
             frame = self.render(match, agent, obs, estimates.get(agent))
             self._write(video, match.world.time_s, frame)
             video.frame_ms.append((time.perf_counter() - started) * 1000.0)

@@ -10,6 +10,7 @@ schedule does not depend on how or where the matches run.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import itertools
 import json
@@ -19,6 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from match.controllers import ControllerLimits
 
 MAX_PLAYERS = 4
 PAUSE_NAMES = ("initial_seconds", "ready_seconds", "set_seconds")  # the referee's pauses before a kick-off
@@ -36,7 +39,9 @@ class TournamentSettings:
     """``policies``: policy names (built in or ``package.module:ClassName``); ``matches``: per pair;
     ``half_seconds``, ``players`` (per side), ``shootout``: every match's; ``seed``: the
     tournament's. ``pauses``: the INITIAL, READY and SET seconds before each kick-off (None:
-    the rules' 2, 15 and 3 s; shorter ones make quick test tournaments)."""
+    the rules' 2, 15 and 3 s; shorter ones make quick test tournaments). ``controllers``: the
+    limits of the policies' controller processes (None: in the match's process); they change
+    no result of policies that keep to them."""
 
     policies: tuple[str, ...]
     matches: int = 10
@@ -45,6 +50,7 @@ class TournamentSettings:
     seed: int = 0
     shootout: bool = True
     pauses: tuple[float, float, float] | None = None
+    controllers: ControllerLimits | None = ControllerLimits()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "policies", tuple(self.policies))
@@ -118,11 +124,13 @@ class TournamentSettings:
             "seed": self.seed,
             "shootout": self.shootout,
             "pauses": list(self.pauses) if self.pauses is not None else None,
+            "controllers": dataclasses.asdict(self.controllers) if self.controllers is not None else None,
         }
 
     def fingerprint(self) -> str:
         """A hash of everything that changes the results (for ``--resume``): sha256 hex, 16 digits."""
-        return hashlib.sha256(json.dumps(self.to_json(), sort_keys=True).encode("utf-8")).hexdigest()[:16]
+        results = {key: value for key, value in self.to_json().items() if key != "controllers"}
+        return hashlib.sha256(json.dumps(results, sort_keys=True).encode("utf-8")).hexdigest()[:16]
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,465 @@
+"""Where the policies run: in the simulator's process, or in controller processes of their own.
+
+The runner (:mod:`match.runner`) asks its :class:`Controllers` for a :class:`Decision` every
+control step: each robot's checked action (None: the robot stands this step), the faults of
+that step, and what the policies report for the log (pose estimates, agent reports). Two
+kinds give the same decisions for policies that behave:
+
+- :class:`InProcessControllers` calls the policies one after the other in this process
+  (fast to start, easy to debug: the PettingZoo env and the scenario runs work this way);
+- :class:`ProcessControllers` runs them in controller processes, as RobotStadium runs each
+  robot's controller as a program of its own: one process per robot or per team
+  (:attr:`ControllerLimits.group`), started from a clean server process (``forkserver``
+  where there is one, else ``spawn``), so a controller cannot reach the simulator's objects.
+  Observations go out and actions come back over pipes; the processes of one step work in
+  parallel. A controller that has not answered within the step budget
+  (:attr:`ControllerLimits.step_budget_s`) gets its robots a stand for that step and a
+  fault; while it is still busy its robots stand without new faults, and its late answer is
+  dropped. One still busy :attr:`ControllerLimits.hang_s` after its deadline, one that dies
+  and one whose resident memory passes :attr:`ControllerLimits.memory_mb` is stopped,
+  recorded, and restarted (built and reset again with the same seeds); its robots stand
+  until it is back.
+
+A fault is anything a policy raises (every ``BaseException`` but ``KeyboardInterrupt``:
+``SystemExit`` and ``os._exit`` in a controller process included), an action that fails the
+one action check (:func:`match.protocol.actions.parse_action`), or one of the process faults
+above. Reports that fail their checks are not faults: the log records nothing for them
+(:mod:`match.reports`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import multiprocessing
+import os
+import signal
+import time
+import traceback
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from multiprocessing.connection import Connection, wait
+from typing import Any, Protocol
+
+from match.errors import InvalidReportError, MatchConfigError
+from match.protocol.actions import Action, parse_action
+from match.protocol.policy import AgentReport, Policy, PoseTuple, check_pose
+from match.reports import ReportReader, read_reports
+
+log = logging.getLogger(__name__)
+
+PolicyFactory = Callable[[], Policy]  # builds a robot's policy; picklable for controller processes
+GROUPS = ("robot", "team")
+MEMORY_CHECK_EVERY_STEPS = 25
+PAGE_BYTES = os.sysconf("SC_PAGE_SIZE") if hasattr(os, "sysconf") else 4096
+
+
+@dataclass(frozen=True)
+class ControllerLimits:
+    """How controller processes are run and held to account.
+
+    ``step_budget_s``: wall seconds a controller has to answer one step (all its robots);
+    ``start_budget_s``: to build and reset its policies before the first step; ``hang_s``:
+    wall seconds past a missed deadline after which a controller still busy is restarted;
+    ``memory_mb``: resident memory (MiB) past which it is stopped and restarted (checked
+    every :data:`MEMORY_CHECK_EVERY_STEPS` steps, where the system reports it: Linux);
+    ``group``: ``robot`` (one process per robot) or ``team`` (one per team).
+    """
+
+    step_budget_s: float = 0.5
+    start_budget_s: float = 120.0
+    hang_s: float = 10.0
+    memory_mb: float = 2048.0
+    group: str = "robot"
+
+    def __post_init__(self) -> None:
+        bounds = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
+                  "memory_mb": (64.0, 1_048_576.0)}
+        for name, (low, high) in bounds.items():
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+                raise MatchConfigError(f"controller limit {name} = {value!r}; expected a number in [{low:g}, {high:g}]")
+        if self.group not in GROUPS:
+            raise MatchConfigError(f"controller group {self.group!r}; expected one of {list(GROUPS)}")
+
+
+@dataclass(frozen=True)
+class PolicyFault:
+    """One fault of a robot's controller: ``error`` is ``"Type: message"``, ``where`` ``file:line`` or None."""
+
+    agent: str
+    error: str
+    where: str | None = None
+
+    @classmethod
+    def of(cls, agent: str, error: BaseException) -> PolicyFault:
+        frame = traceback.extract_tb(error.__traceback__)[-1] if error.__traceback__ else None
+        return cls(agent, _describe(error), f"{frame.filename}:{frame.lineno}" if frame else None)
+
+
+@dataclass(frozen=True)
+class Decision:
+    """One step's decisions (agent id -> action, None: stands), faults and reports (agent id -> report)."""
+
+    actions: Mapping[str, Action | None]
+    faults: tuple[PolicyFault, ...] = ()
+    estimates: Mapping[str, PoseTuple | None] = field(default_factory=dict)
+    reports: Mapping[str, AgentReport | None] = field(default_factory=dict)
+
+
+class Controllers(Protocol):
+    """The policies of one match, wherever they run."""
+
+    agents: tuple[str, ...]
+
+    def start(self, seeds: Mapping[str, int]) -> Decision:
+        """(Re)set every policy for a new match (its ``reset``); the decision's actions are empty."""
+
+    def decide(self, observations: Mapping[str, Mapping[str, Any]]) -> Decision:
+        """Every robot's action for this step's observations (agent id -> observation dict)."""
+
+    def close(self) -> None:
+        """Free what the policies hold (processes); idempotent."""
+
+
+class InProcessControllers:
+    """The policies called in this process, one after the other (see the module)."""
+
+    def __init__(self, policies: Mapping[str, Policy]):
+        self.agents = tuple(policies)
+        self._policies = dict(policies)
+        self._reader = ReportReader(self._policies)
+
+    def start(self, seeds: Mapping[str, int]) -> Decision:
+        faults = []
+        for agent, policy in self._policies.items():
+            try:
+                policy.reset(agent, int(seeds[agent]))
+            except KeyboardInterrupt:
+                raise
+            except BaseException as error:  # noqa: B036 - SystemExit of a policy is its own fault
+                faults.append(PolicyFault.of(agent, error))
+        return Decision({}, tuple(faults), self._reader.estimates(), self._reader.reports())
+
+    def decide(self, observations: Mapping[str, Mapping[str, Any]]) -> Decision:
+        actions, faults = _act_all(self._policies, observations)
+        return Decision(actions, tuple(faults), self._reader.estimates(), self._reader.reports())
+
+    def close(self) -> None:
+        pass
+
+
+class ProcessControllers:
+    """The policies in controller processes (see the module).
+
+    ``factories``: agent id -> a picklable callable that builds its policy (in the controller
+    process); ``preload``: modules the server process imports once for all controllers
+    (their policies' modules), so that starting one is a fork, not a fresh interpreter.
+    """
+
+    def __init__(self, factories: Mapping[str, PolicyFactory], limits: ControllerLimits = ControllerLimits(),
+                 preload: Sequence[str] = ()):
+        self.agents = tuple(factories)
+        self.limits = limits
+        methods = multiprocessing.get_all_start_methods()
+        self._context = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
+        if "forkserver" in methods and preload:
+            self._context.set_forkserver_preload(["__main__", "match.controllers", *preload])
+        groups: dict[str, list[str]] = {}
+        for agent in self.agents:
+            groups.setdefault(agent if limits.group == "robot" else agent.split("_")[0], []).append(agent)
+        self._controllers = [_Controller(self._context, {a: factories[a] for a in members})
+                             for members in groups.values()]
+        self._steps = 0
+        self._estimates: dict[str, PoseTuple | None] = dict.fromkeys(self.agents)
+        self._reports: dict[str, AgentReport | None] = dict.fromkeys(self.agents)
+
+    def start(self, seeds: Mapping[str, int]) -> Decision:
+        faults: list[PolicyFault] = []
+        for controller in self._controllers:
+            controller.seeds = {a: int(seeds[a]) for a in controller.agents}
+            faults += controller.launch()
+        self._collect(self._controllers, _started, time.perf_counter() + self.limits.start_budget_s, faults)
+        for controller in self._controllers:
+            if not controller.ready:
+                faults += controller.fail(f"did not start within {self.limits.start_budget_s:g} s")
+        return Decision({}, tuple(faults), dict(self._estimates), dict(self._reports))
+
+    def decide(self, observations: Mapping[str, Mapping[str, Any]]) -> Decision:
+        faults: list[PolicyFault] = []
+        self._steps += 1
+        self._collect(self._controllers, _started, time.perf_counter(), faults)  # late answers that arrived
+        now = time.perf_counter()
+        for controller in self._controllers:
+            faults += controller.check_health(now, self.limits, self._steps % MEMORY_CHECK_EVERY_STEPS == 0)
+        asked = [c for c in self._controllers if c.ready and not c.busy]
+        for controller in asked:
+            faults += controller.ask({a: observations[a] for a in controller.agents if a in observations})
+        self._collect(asked, _answered, time.perf_counter() + self.limits.step_budget_s, faults)
+        actions: dict[str, Action | None] = dict.fromkeys(self.agents)
+        for controller in asked:
+            if controller.answer is not None:
+                actions.update(controller.answer)
+            elif controller.busy:
+                faults += [PolicyFault(a, f"ControllerTimeout: no action within the step budget of "
+                                          f"{self.limits.step_budget_s:g} s") for a in controller.agents]
+        return Decision(actions, tuple(faults), dict(self._estimates), dict(self._reports))
+
+    def close(self) -> None:
+        for controller in self._controllers:
+            controller.stop()
+
+    def __enter__(self) -> ProcessControllers:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _collect(self, controllers: Sequence[_Controller], done: Callable[[_Controller], bool], deadline: float,
+                 faults: list[PolicyFault]) -> None:
+        """Read messages until every one of ``controllers`` is ``done`` or ``deadline`` (perf_counter) passed;
+        the messages of the others that arrive meanwhile (late answers, resets) are read too."""
+        pending = {id(c) for c in controllers if not done(c)}
+        while True:
+            waiting = {c.conn: c for c in self._controllers if c.conn is not None and (c.busy or not _started(c))}
+            timeout = max(0.0, deadline - time.perf_counter()) if pending else 0.0
+            ready = wait(list(waiting), timeout=timeout) if waiting else []
+            if not ready:
+                return
+            for conn in ready:
+                controller = waiting[conn]
+                faults += controller.receive(self._estimates, self._reports)
+                if done(controller):
+                    pending.discard(id(controller))
+
+
+def _started(controller: _Controller) -> bool:
+    return controller.ready or controller.process is None
+
+
+def _answered(controller: _Controller) -> bool:
+    return not controller.busy
+
+
+class _Controller:
+    """One controller process and its robots, seen from the simulator's side."""
+
+    def __init__(self, context, factories: Mapping[str, PolicyFactory]):
+        self.agents = tuple(factories)
+        self.factories = dict(factories)
+        self.seeds: dict[str, int] = {}
+        self._context = context
+        self.process = None
+        self.conn: Connection | None = None
+        self.ready = False  # reset answered: it can be asked
+        self.busy = False  # asked, not answered
+        self.asked_at = 0.0
+        self.sequence = 0
+        self.answer: dict[str, Action | None] | None = None
+
+    def launch(self) -> list[PolicyFault]:
+        """Start the process and send it the reset (answered later)."""
+        parent, child = self._context.Pipe()
+        self.process = self._context.Process(target=serve, args=(child, self.factories), daemon=True,
+                                             name=f"controller {','.join(self.agents)}")
+        try:
+            self.process.start()
+        except Exception as error:  # no process could be started: the robots stand
+            self.process = None
+            return [PolicyFault.of(a, error) for a in self.agents]
+        finally:
+            child.close()
+        self.conn, self.ready, self.busy = parent, False, False
+        return self._send(("reset", self.seeds))
+
+    def ask(self, observations: Mapping[str, Mapping[str, Any]]) -> list[PolicyFault]:
+        self.sequence += 1
+        self.answer = None
+        self.busy = True
+        self.asked_at = time.perf_counter()
+        return self._send(("act", self.sequence, observations))
+
+    def receive(self, estimates: dict, reports: dict) -> list[PolicyFault]:
+        """Read one message (an answer, a late answer, a reset's answer) or the process's death."""
+        assert self.conn is not None
+        try:
+            message = self.conn.recv()
+        except (EOFError, OSError):
+            return self.restart(f"ControllerDied: controller process ended (exit code {self._exit_code()})")
+        except Exception as error:  # an answer that cannot be unpickled
+            return self.restart(f"ControllerDied: unreadable answer ({_describe(error)})")
+        try:
+            return self._handle(message, estimates, reports)
+        except (TypeError, ValueError, IndexError, KeyError, AttributeError) as error:
+            return self.restart(f"ControllerDied: malformed answer ({_describe(error)})")
+
+    def _handle(self, message: tuple, estimates: dict, reports: dict) -> list[PolicyFault]:
+        kind = message[0]
+        faults = [PolicyFault(str(a), str(error), where) for a, error, where in message[-1] if a in self.agents]
+        if kind == "reset":
+            self.ready = True
+            self._update_reports(message[1], message[2], estimates, reports)
+        elif kind == "act":
+            _, sequence, actions, new_estimates, new_reports, _ = message
+            self.busy = False
+            if sequence == self.sequence:
+                self.answer = {}
+                for agent in self.agents:  # checked again on this side: the process may send anything
+                    try:
+                        self.answer[agent] = parse_action(agent, dict.get(actions, agent))
+                    except Exception as error:
+                        self.answer[agent] = None
+                        faults.append(PolicyFault.of(agent, error))
+                self._update_reports(new_estimates, new_reports, estimates, reports)
+            else:
+                faults = []
+                log.info("controller of %s answered %.2f s late", ",".join(self.agents),
+                         time.perf_counter() - self.asked_at)
+        else:
+            raise ValueError(f"unknown message kind {kind!r}")
+        return faults
+
+    def _update_reports(self, new_estimates: Mapping, new_reports: Mapping, estimates: dict, reports: dict) -> None:
+        """The reports of this controller's robots, checked again on this side (unpickling skips the checks)."""
+        for agent in self.agents:
+            estimates[agent] = _checked(check_pose, dict.get(new_estimates, agent))
+            reports[agent] = _checked(AgentReport.check, dict.get(new_reports, agent))
+
+    def check_health(self, now: float, limits: ControllerLimits, check_memory: bool) -> list[PolicyFault]:
+        """Restart a controller that died, hangs, or holds too much memory."""
+        if self.process is None:
+            return []
+        if not self.process.is_alive():
+            return self.restart(f"ControllerDied: controller process ended (exit code {self._exit_code()})")
+        if self.busy and now - self.asked_at > limits.step_budget_s + limits.hang_s:
+            return self.restart(f"ControllerHung: still busy {now - self.asked_at:.1f} s after it was asked")
+        if check_memory:
+            rss_mb = _resident_mb(self.process.pid)
+            if rss_mb is not None and rss_mb > limits.memory_mb:
+                return self.restart(f"ControllerMemory: {rss_mb:.0f} MiB resident, over the limit of "
+                                    f"{limits.memory_mb:g} MiB")
+        return []
+
+    def restart(self, reason: str) -> list[PolicyFault]:
+        log.warning("controller of %s: %s; restarting it", ",".join(self.agents), reason)
+        self.stop()
+        return [PolicyFault(a, reason) for a in self.agents] + self.launch()
+
+    def fail(self, reason: str) -> list[PolicyFault]:
+        """Stop it for good: its robots stand for the rest of the match."""
+        self.stop()
+        return [PolicyFault(a, f"ControllerFailed: {reason}") for a in self.agents]
+
+    def stop(self) -> None:
+        if self.conn is not None:
+            try:
+                self.conn.send(("close",))
+            except (OSError, ValueError):
+                pass
+        if self.process is not None:
+            self.process.join(timeout=0.2 if not self.busy else 0.0)
+            if self.process.is_alive():
+                self.process.kill()
+                self.process.join(timeout=5.0)
+            if not self.process.is_alive():
+                self.process.close()
+        if self.conn is not None:
+            self.conn.close()
+        self.process, self.conn, self.ready, self.busy, self.answer = None, None, False, False, None
+
+    def _send(self, message: tuple) -> list[PolicyFault]:
+        assert self.conn is not None
+        try:
+            self.conn.send(message)
+        except (OSError, ValueError) as error:
+            return self.restart(f"ControllerDied: cannot reach its process ({_describe(error)})")
+        return []
+
+    def _exit_code(self) -> object:
+        if self.process is None:
+            return None
+        self.process.join(timeout=0.5)
+        return self.process.exitcode
+
+
+# ---- the controller process ---------------------------------------------------------------
+
+
+def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
+    """A controller process's loop: build the policies, then answer resets and steps until told to close."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the simulator's to handle
+    policies: dict[str, Policy] = {}
+    broken: dict[str, str] = {}
+    for agent, factory in factories.items():
+        try:
+            policies[agent] = factory()
+        except BaseException as error:  # noqa: B036 - a policy that cannot be built is its robot's fault
+            broken[agent] = f"PolicyBuildError: {_describe(error)}"
+    reader = ReportReader(policies)
+    while True:
+        message = conn.recv()
+        if message[0] == "close":
+            return
+        if message[0] == "reset":
+            faults = [(a, broken[a], None) for a in broken]
+            for agent, policy in policies.items():
+                try:
+                    policy.reset(agent, message[1][agent])
+                except BaseException as error:  # noqa: B036
+                    fault = PolicyFault.of(agent, error)
+                    faults.append((agent, fault.error, fault.where))
+            estimates, reports = read_reports(reader)
+            conn.send(("reset", estimates, reports, faults))
+            continue
+        _, sequence, observations = message
+        actions, faults = _act_all(policies, observations)
+        faults += [PolicyFault(a, broken[a]) for a in broken if a in observations]
+        estimates, reports = read_reports(reader)
+        conn.send(("act", sequence, actions, estimates, reports, [(f.agent, f.error, f.where) for f in faults]))
+
+
+def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[str, Any]]
+             ) -> tuple[dict[str, Action | None], list[PolicyFault]]:
+    """Each policy's checked action for its observation; a policy that raises or returns a bad action stands."""
+    actions: dict[str, Action | None] = {}
+    faults: list[PolicyFault] = []
+    for agent, observation in observations.items():
+        policy = policies.get(agent)
+        if policy is None:
+            actions[agent] = None
+            continue
+        try:
+            actions[agent] = parse_action(agent, policy.act(observation))
+        except KeyboardInterrupt:
+            raise
+        except BaseException as error:  # noqa: B036 - a failing policy must not end the match
+            faults.append(PolicyFault.of(agent, error))
+            actions[agent] = None
+    return actions, faults
+
+
+def _checked(check: Callable[[object], Any], value: object) -> Any:
+    try:
+        return check(value)
+    except InvalidReportError:
+        return None
+
+
+def _describe(error: BaseException) -> str:
+    try:
+        text = str(error)
+    except Exception:
+        text = "<unprintable>"
+    if len(text) > 300:
+        text = text[:297] + "..."
+    return f"{type(error).__name__}: {text}"
+
+
+def _resident_mb(pid: int) -> float | None:
+    """Resident memory of process ``pid`` in MiB (Linux), None where the system does not say."""
+    try:
+        with open(f"/proc/{pid}/statm", encoding="ascii") as statm:
+            pages = int(statm.read().split()[1])
+    except (OSError, ValueError, IndexError):
+        return None
+    return pages * PAGE_BYTES / 2**20 if math.isfinite(pages) else None

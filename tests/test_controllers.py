@@ -1,0 +1,69 @@
+"""Controller processes (match.controllers): faults cost only their robots, and well-behaved play is the same."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from match.controllers import ControllerLimits
+from match.errors import MatchConfigError
+from scenarios.matches.play import Lineup, run_lineup_match
+
+pytestmark = pytest.mark.render
+
+STEPS = 150
+QUICK = {"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}
+GOOD = "tests.user_policies:Counted"
+FAULTY = {"home_0": "tests.user_policies:Misbehaves", "home_1": "tests.user_policies:ExitsOften",
+          "home_2": "tests.user_policies:Sleeps", "home_3": "tests.user_policies:Hoards"}
+LIMITS = ControllerLimits(step_budget_s=0.25, hang_s=0.5, memory_mb=1024.0, group="robot")
+
+
+def play(out: Path, lineup: Lineup, limits: ControllerLimits | None) -> tuple[dict, float]:
+    started = time.perf_counter()
+    run_lineup_match(out, lineup, half_seconds=60.0, seed=4, progress=False, max_steps=STEPS, referee=QUICK,
+                     shootout=False, controllers=limits)
+    return json.loads((out / "summary.json").read_text(encoding="utf-8")), time.perf_counter() - started
+
+
+def test_faulty_controllers_cost_only_their_robots(tmp_path: Path) -> None:
+    clean, clean_wall = play(tmp_path / "clean", Lineup(GOOD, GOOD), LIMITS)
+    faulty, faulty_wall = play(tmp_path / "faulty", Lineup(GOOD, GOOD, FAULTY), LIMITS)
+    assert clean["completed"] and faulty["completed"] and faulty["steps"] == STEPS
+    assert clean["faults"]["total"] == 0
+    by_agent = faulty["faults"]["by_agent"]
+    assert set(by_agent) == set(FAULTY)
+    errors = [d["error"] for d in faulty["faults"]["details"]]
+    for kind in ("RuntimeError: policy bug", "SystemExit: 4", "InvalidActionError", "ControllerDied",
+                 "exit code 5", "ControllerTimeout", "ControllerHung", "ControllerMemory"):
+        assert any(kind in error for error in errors), kind
+    # the well-behaved robots acted on every step: their estimate counts their acts
+    with np.load(tmp_path / "faulty" / "match_log.npz") as log:
+        agents = list(log["agents"])
+        estimates = log["estimates"]
+    for agent in ("away_0", "away_1", "away_2", "away_3"):
+        acts = np.rint(estimates[:, agents.index(agent), 0] * 100.0)
+        assert np.array_equal(acts[1:], np.arange(1, STEPS + 1) % 100), agent
+    assert np.isnan(estimates[:, agents.index("home_0"), 0]).all()  # a pose of two numbers is logged as none
+    assert faulty_wall < 1.5 * clean_wall + 2.0, (faulty_wall, clean_wall)
+
+
+def test_controller_processes_play_the_same_match_as_in_process(tmp_path: Path) -> None:
+    lineup = Lineup("scripted", "scripted")
+    for name, limits in (("in_process", None), ("per_team", ControllerLimits(group="team"))):
+        run_lineup_match(tmp_path / name, lineup, home=2, away=2, half_seconds=60.0, seed=2, progress=False,
+                         max_steps=100, referee=QUICK, controllers=limits)
+    for name in ("events.jsonl", "match_log.npz"):
+        assert (tmp_path / "in_process" / name).read_bytes() == (tmp_path / "per_team" / name).read_bytes(), name
+
+
+@pytest.mark.parametrize("settings", [{"step_budget_s": 0.0}, {"step_budget_s": float("nan")},
+                                      {"memory_mb": 1e12}, {"hang_s": -1.0}, {"group": "squad"},
+                                      {"step_budget_s": True}])
+def test_controller_limits_are_checked(settings: dict) -> None:
+    with pytest.raises(MatchConfigError, match=next(iter(settings))):
+        ControllerLimits(**settings)
