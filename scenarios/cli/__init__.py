@@ -30,6 +30,7 @@ from scenarios.cli.arguments import (
     Handler,
     Parser,
     add_subparser,
+    one_line,
     verbose_flag,
 )
 from world.errors import WorldError
@@ -66,8 +67,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return handler(args)
     except (WorldError, MatchError, ValueError) as error:
-        print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
+        print(f"robotstadium {args.command}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as error:
-        print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
+        print(f"robotstadium {args.command}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_FAILED

@@ -23,7 +23,7 @@ Handler = Callable[[argparse.Namespace], int]
 
 # ---- bounds shared by several commands --------------------------------------------------------
 
-SEED_MAX = 2**32 - 1  # seeds are 0 .. 2**32-1 (numpy's seed sequences take them; 32 bits, as a match's own seed)
+SEED_MAX = 2**32 - 1  # seeds 0 .. 2**32-1, as wide as the seeds a tournament draws for its matches
 MAX_WORKERS = 64  # local processes (each holds a world of its own) or Ray CPUs
 
 
@@ -31,7 +31,12 @@ class Parser(argparse.ArgumentParser):
     """An argument parser whose usage errors are one line on stderr, ``PROG: error: MESSAGE``, and exit code 2."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {one_line(message)}\n")
+
+
+def one_line(text: object) -> str:
+    """``text`` on one line: every run of whitespace, line breaks too, one space."""
+    return " ".join(str(text).split())
 
 
 # ---- argument types ------------------------------------------------------------------------
