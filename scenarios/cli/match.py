@@ -45,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--away-players", type=players, default=MAX_PLAYERS_PER_TEAM, metavar="N",
                         help=f"away players, 1-{MAX_PLAYERS_PER_TEAM} (default {MAX_PLAYERS_PER_TEAM})")
     parser.add_argument("--half-seconds", type=half_seconds, default=600.0, metavar="S",
-                        help=f"playing time of each half in simulated seconds, "
+                        help="playing time of each half in simulated seconds, "
                              f"{HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} (default 600)")
     add_seed(parser, "match seed")
     add_out_dir(parser, "out/match")

@@ -47,7 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--matches", type=int_in(1, MAX_MATCHES), default=10, metavar="N",
                         help=f"matches per pair, 1-{MAX_MATCHES} (default 10), half with each policy at home")
     parser.add_argument("--half-seconds", type=half_seconds, default=600.0, metavar="S",
-                        help=f"playing time of each half in simulated seconds, "
+                        help="playing time of each half in simulated seconds, "
                              f"{HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} (default 600)")
     parser.add_argument("--players", type=int_in(1, MAX_PLAYERS), default=MAX_PLAYERS, metavar="K",
                         help=f"robots per side, 1-{MAX_PLAYERS} (default {MAX_PLAYERS})")
