@@ -51,6 +51,9 @@ log = logging.getLogger(__name__)
 PolicyFactory = Callable[[], Policy]  # builds a robot's policy; picklable for controller processes
 GROUPS = ("robot", "team")
 MEMORY_CHECK_EVERY_STEPS = 25
+# the allowed range of each number of ControllerLimits (seconds, MiB)
+LIMIT_BOUNDS = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
+                "memory_mb": (64.0, 1_048_576.0)}
 PAGE_BYTES = os.sysconf("SC_PAGE_SIZE") if hasattr(os, "sysconf") else 4096
 
 
@@ -73,9 +76,7 @@ class ControllerLimits:
     group: str = "robot"
 
     def __post_init__(self) -> None:
-        bounds = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
-                  "memory_mb": (64.0, 1_048_576.0)}
-        for name, (low, high) in bounds.items():
+        for name, (low, high) in LIMIT_BOUNDS.items():
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
                 raise MatchConfigError(f"controller limit {name} = {value!r}; expected a number in [{low:g}, {high:g}]")

@@ -154,7 +154,7 @@ def test_module_entry_point(tmp_path: Path) -> None:
         timeout=120,
     )
     assert result.returncode == 2
-    assert "positive integer" in result.stderr
+    assert "argument --repeats: expected an integer in [1, " in result.stderr
 
 
 def test_localize_prints_one_row_per_method(capsys: pytest.CaptureFixture[str]) -> None:

@@ -61,7 +61,7 @@ def _doc(extra: str = "", policy: str = "team") -> dict:
     (_doc(policy="scripted"), "robots[0].measured", "reports its pose"),
     (_doc('methods=["thesis"]'), "methods", "no methods"),
     (_doc('camera_model="thesis"'), "camera_model", "no methods or camera_model"),
-    ({**_doc(), "sampling": {"period_seconds": 0}}, "sampling.period_seconds", "> 0"),
+    ({**_doc(), "sampling": {"period_seconds": 0}}, "sampling.period_seconds", "[0.04, 3600]"),
     ({**_doc(), "sampling": {"every": 1}}, "sampling.every", "period_seconds"),
 ])
 def test_a_bad_sampling_file_is_a_precise_error(data: dict, key: str, fragment: str) -> None:

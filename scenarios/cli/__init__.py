@@ -4,9 +4,12 @@ Each subcommand is one module of this package: its ``NAME``, ``HELP`` and ``DESC
 ``add_arguments(parser)``, which declares its arguments, and ``run(args)``, which runs it
 and returns an exit code; register the module in :data:`SUBCOMMANDS`. Argument types,
 common arguments and exit codes shared by subcommands are in :mod:`scenarios.cli.arguments`.
-Errors of the library (a :class:`~world.errors.WorldError` or a ``ValueError`` from a bad
-argument) end the command with a one-line message on stderr and exit code 2, without a
-traceback; a file that cannot be written ends it the same way with exit code 1.
+Every number and path on the command line is checked when it is parsed, against the bounds
+its help states, and a bad one ends the command with a one-line message naming the flag and
+exit code 2 before anything runs or is written. Errors of the library (a
+:class:`~world.errors.WorldError`, a :class:`~match.errors.MatchError` or a ``ValueError``
+from a bad argument or input file) end it the same way, also before anything is written; a
+file that cannot be written while the command runs ends it the same way with exit code 1.
 """
 
 from __future__ import annotations
@@ -25,7 +28,9 @@ from scenarios.cli.arguments import (
     EXIT_OK,
     EXIT_USAGE,
     Handler,
+    Parser,
     add_subparser,
+    one_line,
     verbose_flag,
 )
 from world.errors import WorldError
@@ -38,7 +43,7 @@ SUBCOMMANDS: tuple[ModuleType, ...] = (
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="robotstadium", description="Simulate RobotStadium robot-soccer matches in PyBullet."
     )
     verbose_flag(parser, False)
@@ -51,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; return the exit code (argparse exits with 2 on usage errors)."""
+    """Run the command line; return the exit code (a usage error raises ``SystemExit(2)`` while parsing)."""
     args = build_parser().parse_args(argv)
     logging.basicConfig(
         level=logging.DEBUG if args.verbose else logging.INFO,
@@ -62,8 +67,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return handler(args)
     except (WorldError, MatchError, ValueError) as error:
-        print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
+        print(f"robotstadium {args.command}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as error:
-        print(f"robotstadium {args.command}: error: {error}", file=sys.stderr)
+        print(f"robotstadium {args.command}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_FAILED

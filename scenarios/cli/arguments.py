@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import NoReturn
+
+from scenarios.cli.outputs import output_problem
+from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -16,29 +21,93 @@ EXIT_INTERRUPTED = 130  # Ctrl-C, as shells report it
 Handler = Callable[[argparse.Namespace], int]
 
 
+# ---- bounds shared by several commands --------------------------------------------------------
+
+SEED_MAX = 2**32 - 1  # seeds 0 .. 2**32-1, as wide as the seeds a tournament draws for its matches
+MAX_WORKERS = 64  # local processes (each holds a world of its own) or Ray CPUs
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line on stderr, ``PROG: error: MESSAGE``, and exit code 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {one_line(message)}\n")
+
+
+def one_line(text: object) -> str:
+    """``text`` on one line: every run of whitespace, line breaks too, one space."""
+    return " ".join(str(text).split())
+
+
 # ---- argument types ------------------------------------------------------------------------
 
 
-def positive_int(text: str) -> int:
-    """argparse type: an integer >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
-    return value
+def _got(text: str, number: bool = False) -> str:
+    """How a message shows the text given: as typed for a number, quoted otherwise, at most 40 characters."""
+    shown = text.strip() if number else text
+    shown = shown if len(shown) <= 40 else shown[:37] + "..."
+    return shown if number else repr(shown)
 
 
-def positive_float(text: str) -> float:
-    """argparse type: a finite number > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}") from None
-    if not (value > 0 and value < float("inf")):
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {value}")
-    return value
+def int_in(low: int, high: int) -> Callable[[str], int]:
+    """An argparse type: an integer in ``[low, high]``."""
+
+    def parse(text: str) -> int:
+        expected = f"expected an integer in [{low}, {high}]"
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{expected}, got {_got(text)}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"{expected}, got {_got(text, number=True)}")
+        return value
+
+    return parse
+
+
+def number_in(low: float, high: float) -> Callable[[str], float]:
+    """An argparse type: a finite number in ``[low, high]``."""
+
+    def parse(text: str) -> float:
+        expected = f"expected a number in [{low:g}, {high:g}]"
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{expected}, got {_got(text)}") from None
+        if not (math.isfinite(value) and low <= value <= high):
+            raise argparse.ArgumentTypeError(f"{expected}, got {_got(text, number=True)}")
+        return value
+
+    return parse
+
+
+seed = int_in(0, SEED_MAX)
+half_seconds = number_in(HALF_SECONDS_MIN, HALF_SECONDS_MAX)
+workers = int_in(1, MAX_WORKERS)
+
+
+def input_path(text: str) -> Path:
+    """argparse type: a path to read, not empty (an empty path would read the current directory)."""
+    if not text.strip() or "\0" in text:
+        raise argparse.ArgumentTypeError(f"expected a path, got {_got(text)}")
+    return Path(text)
+
+
+def output_dir(text: str) -> Path:
+    """argparse type: a directory to write into, existing and writable or one that can be created
+    (see :func:`~scenarios.cli.outputs.output_problem`); nothing is created here."""
+    problem = output_problem(text, directory=True)
+    if problem is not None:
+        raise argparse.ArgumentTypeError(problem)
+    return Path(text)
+
+
+def output_file(text: str) -> Path:
+    """argparse type: a file to write, a writable one or one that can be created in a directory that can."""
+    problem = output_problem(text, directory=False)
+    if problem is not None:
+        raise argparse.ArgumentTypeError(problem)
+    return Path(text)
 
 
 def name_list(choices: Callable[[], Iterable[str]]) -> Callable[[str], tuple[str, ...]]:
@@ -48,7 +117,7 @@ def name_list(choices: Callable[[], Iterable[str]]) -> Callable[[str], tuple[str
         allowed = sorted(choices())
         names = tuple(name.strip() for name in text.split(",") if name.strip())
         if not names or any(n not in allowed for n in names) or len(set(names)) != len(names):
-            raise argparse.ArgumentTypeError(f"expected distinct names among {allowed}, got {text!r}")
+            raise argparse.ArgumentTypeError(f"expected distinct names among {allowed}, got {_got(text)}")
         return names
 
     return parse
@@ -80,7 +149,7 @@ def policy_override(text: str) -> tuple[str, str]:
     except ValueError as error:
         raise argparse.ArgumentTypeError(f"expected AGENT=POLICY; {error}") from None
     if not sep:
-        raise argparse.ArgumentTypeError(f"expected AGENT=POLICY, e.g. home_2=scripted; got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected AGENT=POLICY, e.g. home_2=scripted; got {_got(text)}")
     return str(agent_id), policy_name(name.strip())
 
 
@@ -124,18 +193,27 @@ def add_subparser(subparsers: argparse._SubParsersAction, name: str, **kwargs) -
     return subparsers.add_parser(name, parents=[common], **kwargs)
 
 
-def add_out_dir(parser: argparse.ArgumentParser, default: Path | None = None) -> None:
-    """``--out DIR``, the output directory: required without a ``default``."""
+def add_out_dir(parser: argparse.ArgumentParser, default: str | None = None) -> None:
+    """``--out DIR``, the output directory (checked when parsing, the default too): required without a ``default``."""
+    text = "output directory, created if missing; refused before anything runs if it cannot be written"
     if default is None:
-        parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="output directory (created)")
+        parser.add_argument("--out", type=output_dir, required=True, metavar="DIR", help=text)
     else:
-        parser.add_argument("--out", type=Path, default=default, metavar="DIR", help=f"output directory (default {default})")
+        parser.add_argument("--out", type=output_dir, default=default, metavar="DIR",
+                            help=f"{text} (default {default})")
+
+
+def add_seed(parser: argparse.ArgumentParser, text: str, default: int | None = 0, default_text: str = "") -> None:
+    """``--seed N``: an integer 0 .. :data:`SEED_MAX`; ``text`` says what it seeds."""
+    shown = default_text or str(default)
+    parser.add_argument("--seed", type=seed, default=default, metavar="N",
+                        help=f"{text}, 0-{SEED_MAX} (default {shown})")
 
 
 def add_batch_arguments(parser: argparse.ArgumentParser, unit: str) -> None:
     """``--workers``, ``--backend``, ``--ray-address`` and ``--resume`` of a batch of ``unit`` (e.g. "runs")."""
-    parser.add_argument("--workers", type=int, default=None, metavar="W",
-                        help=f"{unit} at once, in local processes or Ray CPUs (default: all cores)")
+    parser.add_argument("--workers", type=workers, default=None, metavar="W",
+                        help=f"{unit} at once, in local processes or Ray CPUs, 1-{MAX_WORKERS} (default: all cores)")
     parser.add_argument("--backend", choices=("local", "ray"), default="local",
                         help="local processes (default) or Ray tasks (needs the ray extra)")
     parser.add_argument("--ray-address", default=None, metavar="ADDRESS",
@@ -153,20 +231,21 @@ def batch_options(args: argparse.Namespace):
 
 def add_controller_arguments(parser: argparse.ArgumentParser) -> None:
     """``--in-process``, ``--controller-per``, ``--step-budget`` and ``--controller-memory`` (match.controllers)."""
-    from match.controllers import GROUPS, ControllerLimits
+    from match.controllers import GROUPS, LIMIT_BOUNDS, ControllerLimits
 
     default = ControllerLimits()
+    budget, memory = LIMIT_BOUNDS["step_budget_s"], LIMIT_BOUNDS["memory_mb"]
     parser.add_argument("--in-process", dest="controllers", action="store_false",
                         help="run the policies in the simulator's process (for debugging; default: controller "
                              "processes, held to a step budget and a memory limit)")
     parser.add_argument("--controller-per", choices=GROUPS, default=default.group,
                         help=f"one controller process per robot or per team (default {default.group})")
-    parser.add_argument("--step-budget", type=positive_float, default=default.step_budget_s, metavar="S",
-                        help=f"wall seconds a controller has to answer one step before its robots stand for it "
-                             f"(default {default.step_budget_s:g})")
-    parser.add_argument("--controller-memory", type=positive_float, default=default.memory_mb, metavar="MB",
-                        help=f"resident memory (MiB) past which a controller process is restarted "
-                             f"(default {default.memory_mb:g})")
+    parser.add_argument("--step-budget", type=number_in(*budget), default=default.step_budget_s, metavar="S",
+                        help=f"wall seconds a controller has to answer one step before its robots stand for it, "
+                             f"{budget[0]:g}-{budget[1]:g} (default {default.step_budget_s:g})")
+    parser.add_argument("--controller-memory", type=number_in(*memory), default=default.memory_mb, metavar="MB",
+                        help=f"resident memory (MiB) past which a controller process is restarted, "
+                             f"{memory[0]:g}-{memory[1]:g} (default {default.memory_mb:g})")
 
 
 def controller_limits(args: argparse.Namespace):

@@ -6,14 +6,19 @@ import argparse
 from pathlib import Path
 
 from agents.policies import DEFAULT_POLICY
+from match.protocol.ids import MAX_PLAYERS_PER_TEAM
 from scenarios.cli.arguments import (
     EXIT_OK,
+    HALF_SECONDS_MAX,
+    HALF_SECONDS_MIN,
     add_controller_arguments,
+    add_out_dir,
+    add_seed,
     controller_limits,
+    half_seconds,
+    int_in,
     policy_name,
     policy_override,
-    positive_float,
-    positive_int,
     robot_or_all,
 )
 
@@ -36,12 +41,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"the away team's policy (default {DEFAULT_POLICY})")
     parser.add_argument("--policy", type=policy_override, action="append", default=[], metavar="AGENT=POLICY",
                         help="one robot's policy, e.g. home_2=mypkg.mod:Striker (repeatable)")
-    parser.add_argument("--home-players", type=positive_int, default=4, metavar="N", help="home players, 1-4 (default 4)")
-    parser.add_argument("--away-players", type=positive_int, default=4, metavar="N", help="away players, 1-4 (default 4)")
-    parser.add_argument("--half-seconds", type=positive_float, default=600.0, metavar="S",
-                        help="playing time of each half in simulated seconds (default 600)")
-    parser.add_argument("--seed", type=int, default=0, help="match seed (default 0)")
-    parser.add_argument("--out", type=Path, default=Path("out/match"), metavar="DIR", help="output directory (default out/match)")
+    players = int_in(1, MAX_PLAYERS_PER_TEAM)
+    parser.add_argument("--home-players", type=players, default=MAX_PLAYERS_PER_TEAM, metavar="N",
+                        help=f"home players, 1-{MAX_PLAYERS_PER_TEAM} (default {MAX_PLAYERS_PER_TEAM})")
+    parser.add_argument("--away-players", type=players, default=MAX_PLAYERS_PER_TEAM, metavar="N",
+                        help=f"away players, 1-{MAX_PLAYERS_PER_TEAM} (default {MAX_PLAYERS_PER_TEAM})")
+    parser.add_argument("--half-seconds", type=half_seconds, default=600.0, metavar="S",
+                        help="playing time of each half in simulated seconds, "
+                             f"{HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} (default 600)")
+    add_seed(parser, "match seed")
+    add_out_dir(parser, "out/match")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
                         help="decide a tie by penalty shoot-out (default: yes)")

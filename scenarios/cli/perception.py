@@ -9,10 +9,11 @@ from scenarios.cli.arguments import (
     EXIT_OK,
     add_no_progress,
     add_out_dir,
+    add_seed,
     camera_model_names,
+    int_in,
     name_list,
-    positive_float,
-    positive_int,
+    number_in,
 )
 from scenarios.perception.records import MAX_CROWD, PerceptionConfig
 
@@ -25,31 +26,25 @@ DESCRIPTION = (
     "visible.csv, errors_vs_distance.png, examples/ (frames with errors, truth marked) and overlays/ "
     "(the same frames as the pipeline saw them) into --out."
 )
-
-
-def crowd_count(text: str) -> int:
-    """argparse type: an integer 0 .. :data:`MAX_CROWD`."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer 0-{MAX_CROWD}, got {text!r}") from None
-    if not 0 <= value <= MAX_CROWD:
-        raise argparse.ArgumentTypeError(f"expected an integer 0-{MAX_CROWD}, got {value}")
-    return value
+MAX_FRAMES = 20_000  # about half an hour on a small machine (1000 frames: 78 s), every record held in memory
+MAX_EXAMPLES = 1_000  # each held in memory as a camera image until written
+MAX_RANGE_M = (0.1, 20.0)  # metres; the field is 6 m x 4 m
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--frames", type=positive_int, required=True, metavar="N", help="frames to render")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the poses (default 0)")
+    parser.add_argument("--frames", type=int_in(1, MAX_FRAMES), required=True, metavar="N",
+                        help=f"frames to render, 1-{MAX_FRAMES}")
+    add_seed(parser, "seed of the poses")
     add_out_dir(parser)
-    parser.add_argument("--crowd", type=crowd_count, default=0, metavar="K",
+    parser.add_argument("--crowd", type=int_in(0, MAX_CROWD), default=0, metavar="K",
                         help=f"other robots standing on the field, 0-{MAX_CROWD} (default 0)")
     parser.add_argument("--models", type=name_list(camera_model_names), default=("exact", "thesis"), metavar="M1,M2",
                         help="camera models to score, comma-separated (default exact,thesis)")
-    parser.add_argument("--max-range-m", type=positive_float, default=4.0, metavar="M",
-                        help="landmarks farther than this are not expected and their errors not counted (default 4)")
-    parser.add_argument("--examples", type=int, default=6, metavar="N",
-                        help="annotated PNGs of frames with a false positive or a miss (default 6)")
+    parser.add_argument("--max-range-m", type=number_in(*MAX_RANGE_M), default=4.0, metavar="M",
+                        help="landmarks farther than this are not expected and their errors not counted, "
+                             f"{MAX_RANGE_M[0]:g}-{MAX_RANGE_M[1]:g} m (default 4)")
+    parser.add_argument("--examples", type=int_in(0, MAX_EXAMPLES), default=6, metavar="N",
+                        help=f"annotated PNGs of frames with a false positive or a miss, 0-{MAX_EXAMPLES} (default 6)")
     add_no_progress(parser)
 
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
 from scenarios.cli.arguments import (
     EXIT_INTERRUPTED,
@@ -12,12 +11,14 @@ from scenarios.cli.arguments import (
     add_batch_arguments,
     add_no_progress,
     add_out_dir,
+    add_seed,
     batch_options,
+    half_seconds,
+    int_in,
     localizer_names,
     name_list,
-    positive_float,
-    positive_int,
 )
+from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN, MAX_SAMPLES
 
 NAME = "scenario"
 HELP = "thesis chapter 6: run scenarios 1-3 (or a scenario file) and write their localization statistics"
@@ -32,16 +33,17 @@ DESCRIPTION = (
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenarios", nargs="+", metavar="SCENARIO", help="1, 2, 3, 3-match, all, or a scenario file")
-    parser.add_argument("--samples", type=positive_int, default=None, metavar="N",
-                        help="localization events per method (default: the scenario file's; not used by 3-match, "
-                             "whose runs last a match: see --half-seconds)")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the runs (default: the scenario file's)")
+    parser.add_argument("--samples", type=int_in(1, MAX_SAMPLES), default=None, metavar="N",
+                        help=f"localization events per method, 1-{MAX_SAMPLES} (default: the scenario file's; not used "
+                             "by 3-match, whose runs last a match: see --half-seconds)")
+    add_seed(parser, "seed of the runs", default=None, default_text="the scenario file's")
     parser.add_argument("--methods", type=name_list(localizer_names), default=None, metavar="M1,M2",
                         help="localization methods, comma-separated (default: the scenario file's)")
-    parser.add_argument("--half-seconds", type=positive_float, default=None, metavar="S",
-                        help="length of a half of the refereed scenarios, seconds (default: the scenario file's)")
+    parser.add_argument("--half-seconds", type=half_seconds, default=None, metavar="S",
+                        help=f"length of a half of the refereed scenarios, {HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} "
+                             "seconds (default: the scenario file's)")
     add_batch_arguments(parser, "runs")
-    add_out_dir(parser, Path("out/scenarios"))
+    add_out_dir(parser, "out/scenarios")
     add_no_progress(parser)
 
 

@@ -11,14 +11,21 @@ from pathlib import Path
 from scenarios.cli.arguments import (
     EXIT_INTERRUPTED,
     EXIT_OK,
+    HALF_SECONDS_MAX,
+    HALF_SECONDS_MIN,
     add_batch_arguments,
     add_controller_arguments,
     add_no_progress,
     add_out_dir,
+    add_seed,
     batch_options,
     controller_limits,
+    half_seconds,
+    int_in,
+    number_in,
     policy_name,
 )
+from scenarios.tournament.settings import MAX_PLAYERS
 
 NAME = "tournament"
 HELP = "play many matches between policies and say, with 95%% intervals, which is better"
@@ -33,17 +40,22 @@ DESCRIPTION = (
 
 log = logging.getLogger(__name__)
 
+MAX_MATCHES = 1_000  # per pair; a 4 v 4 match of 600 s halves takes minutes of wall time
+MAX_PAUSE_S = 60.0
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("policies", nargs="+", metavar="POLICY", help="two or more policies")
-    parser.add_argument("--matches", type=int, default=10, metavar="N",
-                        help="matches per pair (default 10), half with each policy at home")
-    parser.add_argument("--half-seconds", type=float, default=600.0, metavar="S",
-                        help="playing time of each half in simulated seconds (default 600)")
-    parser.add_argument("--players", type=int, default=4, metavar="K", help="robots per side, 1-4 (default 4)")
-    parser.add_argument("--seed", type=int, default=0, help="tournament seed; each match's is drawn from it (default 0)")
+    parser.add_argument("--matches", type=int_in(1, MAX_MATCHES), default=10, metavar="N",
+                        help=f"matches per pair, 1-{MAX_MATCHES} (default 10), half with each policy at home")
+    parser.add_argument("--half-seconds", type=half_seconds, default=600.0, metavar="S",
+                        help="playing time of each half in simulated seconds, "
+                             f"{HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} (default 600)")
+    parser.add_argument("--players", type=int_in(1, MAX_PLAYERS), default=MAX_PLAYERS, metavar="K",
+                        help=f"robots per side, 1-{MAX_PLAYERS} (default {MAX_PLAYERS})")
+    add_seed(parser, "tournament seed; each match's is drawn from it")
     add_batch_arguments(parser, "matches")
-    add_out_dir(parser, Path("out/tournament"))
+    add_out_dir(parser, "out/tournament")
     add_no_progress(parser)
     parser.add_argument("--shootout", action=argparse.BooleanOptionalAction, default=True,
                         help="decide a tie by penalty shoot-out (default: yes)")
@@ -51,9 +63,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="do not write each match's replay page (matches/NNN/replay.html)")
     parser.add_argument("--plots-for", type=int, action="append", default=[], metavar="N",
                         help="after the tournament, write traces.png and localization.png of match N (as in "
-                             "matches/NNN) into its directory (repeatable)")
-    # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds (part of the settings)
-    parser.add_argument("--pauses", default=None, help=argparse.SUPPRESS)
+                             "matches/NNN, 0 to the number of matches - 1) into its directory (repeatable)")
+    # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds, each 0-60 (part of the settings)
+    parser.add_argument("--pauses", type=_pauses, default=None, help=argparse.SUPPRESS)
     add_controller_arguments(parser)
 
 
@@ -69,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
         except argparse.ArgumentTypeError as error:
             raise TournamentError(f"POLICY: {error}") from None
     settings = TournamentSettings(tuple(args.policies), args.matches, args.half_seconds, args.players, args.seed,
-                                  args.shootout, _pauses(args.pauses), controller_limits(args))
+                                  args.shootout, args.pauses, controller_limits(args))
     plots_for = sorted({check_match_index(settings, index, "--plots-for") for index in args.plots_for})
     options = batch_options(args)
     try:
@@ -105,10 +117,9 @@ def _write_plots(out: Path, records: Iterable[dict], indices: Iterable[int]) -> 
     return written
 
 
-def _pauses(text: str | None) -> tuple[float, ...] | None:
-    if text is None:
-        return None
-    try:
-        return tuple(float(part) for part in text.split(","))
-    except ValueError:
-        raise ValueError(f"--pauses {text!r}: expected three numbers of seconds, e.g. 0.2,0.4,0.2") from None
+def _pauses(text: str) -> tuple[float, ...]:
+    """argparse type of ``--pauses``: three numbers of seconds in [0, :data:`MAX_PAUSE_S`], e.g. 0.2,0.4,0.2."""
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"expected three numbers of seconds, e.g. 0.2,0.4,0.2; got {text[:40]!r}")
+    return tuple(number_in(0.0, MAX_PAUSE_S)(part) for part in parts)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from scenarios.cli.arguments import EXIT_OK, add_out_dir
+from scenarios.cli.arguments import EXIT_OK, add_out_dir, add_seed
 from scenarios.tools.world_demo import run_world_demo
 
 NAME = "world-demo"
@@ -17,7 +17,7 @@ DESCRIPTION = (
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_out_dir(parser)
-    parser.add_argument("--seed", type=int, default=0, help="seed of the motion noise (default 0)")
+    add_seed(parser, "seed of the motion noise")
 
 
 def run(args: argparse.Namespace) -> int:

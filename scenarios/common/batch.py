@@ -12,7 +12,11 @@ or Ray, every result kept as it arrives, resumable.
 - :class:`ResultStore` keeps one JSON file per finished task in ``DIR/<subdir>/`` (written
   atomically) with a fingerprint of the settings; a marker file in ``DIR`` names the
   settings. A fresh batch clears the old files; a resumed one keeps those of the same
-  fingerprint and refuses a directory of other settings, naming both.
+  fingerprint and refuses a directory of other settings, naming both. Since every file is
+  written atomically, a file that cannot be read back (truncated, not JSON, not an object,
+  a key missing or of another type, another task's record under this task's name) was
+  damaged outside the batch: a resumed batch refuses it, naming the file, before anything
+  is written, rather than overwrite it; :func:`check_fields` checks a record's keys.
 
 A Ctrl-C (``KeyboardInterrupt``) stops the batch: tasks not finished are cancelled, the
 results already yielded (and stored by the caller) are kept for ``--resume``.
@@ -47,7 +51,7 @@ Progress = Callable[..., None]  # progress(n=1): n more units done
 
 
 class BatchError(ValueError):
-    """A batch that cannot start: bad options, a missing extra, a directory of other settings."""
+    """A batch that cannot start: bad options, a missing extra, a directory of other settings or a damaged file."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -320,20 +324,30 @@ class ResultStore:
     ``settings``: what the marker records besides the ``fingerprint`` (plain JSON values),
     named in the message when a resumed batch finds other settings; ``key``: the field of a
     stored task that holds its index; ``what``: how the message names the stored tasks.
+    ``read(index, data)``: the caller's value of a stored task, raising ``ValueError`` for
+    one it cannot use (the store refuses the file, naming it). A resumed store reads and
+    checks every file when it is made, before it writes anything; ``write=False`` only reads
+    and checks (a batch checks all its directories before it runs any).
     """
 
     def __init__(self, out_dir: Path, *, fingerprint: str, settings: Mapping[str, object], resume: bool,
-                 marker: str, subdir: str = "runs", prefix: str = "run", key: str = "run", what: str = "runs"):
+                 marker: str, subdir: str = "runs", prefix: str = "run", key: str = "run", what: str = "runs",
+                 read: Callable[[int, dict], Any] = lambda index, data: data, write: bool = True):
         out_dir = Path(out_dir)
         self.dir = out_dir / subdir
         self.fingerprint = fingerprint
         self.prefix = prefix
         self.key = key
         marker_path = out_dir / marker
-        if resume and marker_path.exists():
-            stored = json.loads(marker_path.read_text(encoding="utf-8"))
-            if stored.get("fingerprint") != fingerprint:
-                raise BatchError(_mismatch(out_dir, what, stored, dict(settings), fingerprint))
+        self._stored: dict[int, Any] = {}
+        if resume:
+            if marker_path.exists():
+                stored = _read_object(marker_path, task=False)
+                if stored.get("fingerprint") != fingerprint:
+                    raise BatchError(_mismatch(out_dir, what, stored, dict(settings), fingerprint))
+            self._stored = self._read_all(read)
+        if not write:
+            return
         self.dir.mkdir(parents=True, exist_ok=True)
         if not resume:
             for old in self.dir.glob(f"{prefix}_*.json"):
@@ -343,20 +357,85 @@ class ResultStore:
     def path(self, index: int) -> Path:
         return self.dir / f"{self.prefix}_{index:04d}.json"
 
-    def load(self) -> dict[int, dict]:
-        """The stored tasks of this fingerprint, by index (files of another are ignored)."""
+    def load(self) -> dict[int, Any]:
+        """The stored tasks of this fingerprint, by index, as ``read`` made them (files of another are ignored)."""
+        return dict(self._stored)
+
+    def _read_all(self, read: Callable[[int, dict], Any]) -> dict[int, Any]:
         done = {}
         for path in sorted(self.dir.glob(f"{self.prefix}_*.json")):
-            data = json.loads(path.read_text(encoding="utf-8"))
-            if data.get("fingerprint") != self.fingerprint:
+            data = _read_object(path)
+            if not isinstance(data.get("fingerprint"), str):
+                raise BatchError(_damaged(path, "no settings fingerprint"))
+            if data["fingerprint"] != self.fingerprint:
                 log.warning("ignoring %s: written with other settings", path)
                 continue
-            done[int(data[self.key])] = data
+            index = data.get(self.key)
+            if not _is_int(index) or index < 0 or self.path(index).name != path.name:
+                raise BatchError(_damaged(path, f"{self.key} = {_short(index)}, which is not the file's name"))
+            try:
+                done[index] = read(index, data)
+            except ValueError as error:
+                raise BatchError(_damaged(path, str(error))) from None
         return done
 
     def save(self, index: int, data: Mapping[str, object]) -> Path:
         """``data`` (plain JSON; NaN kept as NaN, which Python's JSON reads) as task ``index``, atomically."""
         return write_text_atomic(self.path(index), json.dumps({"fingerprint": self.fingerprint, **data}) + "\n")
+
+
+def check_fields(data: Mapping, fields: Mapping[str, type | tuple[type, ...]], where: str = "") -> None:
+    """Every key of ``fields`` is in ``data`` with a value of its type(s): a ``float`` field also takes
+    an integer, no number field takes a bool. A ``ValueError`` naming the first key that is not."""
+    for key, kinds in fields.items():
+        kinds = kinds if isinstance(kinds, tuple) else (kinds,)
+        value = data.get(key, _ABSENT)
+        if value is _ABSENT:
+            raise ValueError(f"{where}{key} is missing")
+        if not any(_is_kind(value, kind) for kind in kinds):
+            names = " or ".join(_KIND_NAMES.get(kind, kind.__name__) for kind in kinds)
+            raise ValueError(f"{where}{key} = {_short(value)}; expected {names}")
+
+
+_ABSENT = object()
+_JSON_NAMES = {list: "array", str: "string", int: "number", float: "number", bool: "boolean", type(None): "null"}
+_KIND_NAMES = {int: "an integer", float: "a number", str: "a string", bool: "true or false", list: "an array",
+               dict: "an object", type(None): "null"}
+
+
+def _is_kind(value: object, kind: type) -> bool:
+    if kind is float:
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    if kind is int:
+        return _is_int(value)
+    return isinstance(value, kind)
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _short(value: object) -> str:
+    text = json.dumps(value) if isinstance(value, (str, int, float, bool, type(None))) else type(value).__name__
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _read_object(path: Path, task: bool = True) -> dict:
+    """A JSON object from ``path`` (a task's file, or the marker); a :class:`BatchError` naming the file when it
+    is not one."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError) as error:  # unreadable, not UTF-8, not JSON, nested too deep
+        raise BatchError(_damaged(path, describe_error(error), task)) from None
+    if not isinstance(data, dict):
+        raise BatchError(_damaged(path, f"a JSON {_JSON_NAMES.get(type(data), 'value')}, not an object", task))
+    return data
+
+
+def _damaged(path: Path, problem: str, task: bool = True) -> str:
+    """The refusal to resume from a damaged file."""
+    advice = "delete it to run its task again, or run" if task else "run"
+    return f"{path}: damaged, cannot resume from it ({problem}): {advice} without --resume to start over"
 
 
 def _mismatch(out_dir: Path, what: str, stored: dict, settings: dict, fingerprint: str) -> str:

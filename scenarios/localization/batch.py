@@ -6,7 +6,8 @@ Ctrl-C or killed keeps what it finished, and ``resume=True`` continues without r
 those runs. The report is built from the run files in run order, so it is the same whatever
 the number of workers or the backend. A run that fails (its error, or its process died
 twice) is not kept: the others finish, then the batch stops with the failures named, and
-``--resume`` runs the failed ones again.
+``--resume`` runs the failed ones again. A run file that cannot be read back as this
+scenario's run (damaged outside the batch) is refused, naming it, before anything runs.
 """
 
 from __future__ import annotations
@@ -20,7 +21,16 @@ from pathlib import Path
 from tqdm import tqdm
 
 from match.runner import package_versions
-from scenarios.common.batch import BACKENDS, BatchError, BatchOptions, ResultStore, default_workers, execute
+from scenarios.common.batch import (
+    BACKENDS,
+    BatchError,
+    BatchOptions,
+    ResultStore,
+    check_fields,
+    default_workers,
+    execute,
+    require_ray,
+)
 from scenarios.localization.figures import plot_errors, plot_traces
 from scenarios.localization.file import NAMED_SCENARIOS, load_scenario
 from scenarios.localization.run import RunOutcome, run_tasks, simulate_run
@@ -90,20 +100,18 @@ def run_scenario(spec: ScenarioSpec, key: str, out_dir: Path, options: BatchOpti
 
 
 class RunStore:
-    """The run files of one scenario in ``out_dir``; a fresh batch clears them, a resumed one checks them."""
+    """The run files of one scenario in ``out_dir``; a fresh batch clears them, a resumed one checks them
+    (``write=False``: only checks them)."""
 
-    def __init__(self, out_dir: Path, spec: ScenarioSpec, resume: bool):
+    def __init__(self, out_dir: Path, spec: ScenarioSpec, resume: bool, write: bool = True):
         self.runs_dir = Path(out_dir) / RUNS_DIR
+        seeds = spec.run_seeds()
         self._store = ResultStore(out_dir, fingerprint=spec.fingerprint(), settings={"scenario": spec.name},
                                   resume=resume, marker=SCENARIO_FILE, subdir=RUNS_DIR, prefix="run", key="run",
-                                  what="runs")
+                                  what="runs", read=lambda run, data: _outcome(run, data, seeds), write=write)
 
     def load(self) -> dict[int, RunOutcome]:
-        return {
-            run: RunOutcome(data["run"], data["seed"], tuple(LocalizationSample(**row) for row in data["samples"]),
-                            data["sim_seconds"], data["wall_seconds"], data["complete"])
-            for run, data in self._store.load().items()
-        }
+        return self._store.load()
 
     def save(self, outcome: RunOutcome) -> None:
         self._store.save(outcome.run, {
@@ -114,6 +122,31 @@ class RunStore:
             "complete": outcome.complete,
             "samples": [dataclasses.asdict(s) for s in outcome.samples],
         })
+
+
+_RUN_FIELDS = {"run": int, "seed": int, "sim_seconds": float, "wall_seconds": float, "complete": bool, "samples": list}
+_SAMPLE_TYPES = {"int": int, "float": float, "str": str}
+_SAMPLE_FIELDS = {f.name: _SAMPLE_TYPES[f.type] for f in dataclasses.fields(LocalizationSample)}
+_SAMPLE_REQUIRED = {f.name: _SAMPLE_FIELDS[f.name] for f in dataclasses.fields(LocalizationSample)
+                    if f.default is dataclasses.MISSING}
+
+
+def _outcome(run: int, data: dict, seeds: Sequence[int]) -> RunOutcome:
+    """The outcome a run file holds; ``ValueError`` when it is not one of this scenario's runs."""
+    check_fields(data, _RUN_FIELDS)
+    if run >= len(seeds) or data["seed"] != seeds[run]:
+        raise ValueError(f"run {run} with seed {data['seed']} is not a run of this scenario")
+    samples = []
+    for i, row in enumerate(data["samples"]):
+        if not isinstance(row, dict):
+            raise ValueError(f"samples[{i}] is not an object")
+        check_fields(row, _SAMPLE_REQUIRED, f"samples[{i}].")
+        check_fields(row, {key: kind for key, kind in _SAMPLE_FIELDS.items() if key in row}, f"samples[{i}].")
+        unknown = sorted(set(row) - set(_SAMPLE_FIELDS))
+        if unknown:
+            raise ValueError(f"samples[{i}] has unknown keys {unknown}")
+        samples.append(LocalizationSample(**row))
+    return RunOutcome(run, data["seed"], tuple(samples), data["sim_seconds"], data["wall_seconds"], data["complete"])
 
 
 # ---- several scenarios, as the command line names them --------------------------------------
@@ -150,8 +183,8 @@ def with_overrides(spec: ScenarioSpec, samples: int | None = None, seed: int | N
 
 
 def run_named(names: Sequence[str], out_dir: Path, options: BatchOptions, **overrides) -> list[ScenarioReport]:
-    """Run the scenarios named (built-in names, paths, or "all": 1, 2, 3 and 3-match); every file is
-    checked before any runs.
+    """Run the scenarios named (built-in names, paths, or "all": 1, 2, 3 and 3-match); every file, the
+    backend and, resuming, every directory's run files are checked before any runs or anything is written.
 
     One scenario writes into ``out_dir``; several write into ``out_dir/scenario_<key>`` each,
     and the combined table and figure into ``out_dir``.
@@ -161,9 +194,14 @@ def run_named(names: Sequence[str], out_dir: Path, options: BatchOptions, **over
     keys = [k for k, _ in specs]
     if len(set(keys)) != len(keys):
         raise ScenarioBatchError(f"scenarios {keys}: expected distinct names")
+    if options.backend == "ray":
+        require_ray()
+    dirs = [Path(out_dir)] if len(specs) == 1 else [Path(out_dir) / f"scenario_{key}" for key, _ in specs]
+    for directory, (_, spec) in zip(dirs, specs):
+        RunStore(directory, spec, resume=options.resume, write=False)
     if len(specs) == 1:
         return [run_scenario(specs[0][1], specs[0][0], out_dir, options)]
-    reports = [run_scenario(spec, key, Path(out_dir) / f"scenario_{key}", options) for key, spec in specs]
+    reports = [run_scenario(spec, key, directory, options) for directory, (key, spec) in zip(dirs, specs)]
     write_combined_report(out_dir, reports)
     return reports
 

@@ -9,6 +9,15 @@ measured while they play a refereed game, sampled every second of PLAYING time (
 :func:`parse_scenario` validates already-parsed data. Every mistake is a
 :class:`ScenarioFileError` naming the file, the key, what was expected and what was found;
 unknown keys are mistakes too.
+
+Every value is bounded, so that a file that loads also runs: a file is at most
+:data:`MAX_FILE_BYTES` (checked before it is parsed) and nested no deeper than the TOML
+parser can follow; ``samples`` at most :data:`~scenarios.common.limits.MAX_SAMPLES`;
+``name`` at most :data:`MAX_NAME_CHARS` characters, ``description`` :data:`MAX_DESCRIPTION_CHARS`,
+a policy name :data:`MAX_POLICY_CHARS`; ``half_seconds`` 1 s .. 1 day; ``motion_scale``
+0 .. :data:`MAX_MOTION_SCALE`; ``max_sim_seconds_per_run`` in :data:`SIM_SECONDS_RANGE`,
+``warmup_seconds`` from 0 to below it; ``period_seconds`` in :data:`PERIOD_SECONDS_RANGE`;
+the thesis' figures 0 .. :data:`MAX_THESIS_FIGURE`; a start heading within ±360 degrees.
 """
 
 from __future__ import annotations
@@ -16,6 +25,7 @@ from __future__ import annotations
 import functools
 import logging
 import math
+import reprlib
 import tomllib
 from pathlib import Path
 from typing import NoReturn
@@ -24,6 +34,7 @@ from agents.localization import LOCALIZERS
 from agents.policies import PolicyNameError, known_policies, policy_factory
 from agents.vision.camera_models import CAMERA_MODELS
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
+from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN, MAX_SAMPLES
 from scenarios.localization.spec import MEASURABLE_POLICIES, RobotEntry, ScenarioSpec, ThesisReference
 from world.field import FIELD, Pose2D
 
@@ -57,6 +68,18 @@ _EVENT_ONLY_KEYS = ("methods", "camera_model")  # they configure the scan-locali
 _THESIS_KEYS = ("position_mean_cm", "position_ci95_cm", "orientation_mean_deg", "orientation_ci95_deg")
 _ROBOT_KEYS = ("id", "policy", "measured", "start")
 _SEED_LIMIT = 2**63
+MAX_FILE_BYTES = 1_000_000
+MAX_NAME_CHARS = 200
+MAX_DESCRIPTION_CHARS = 4_000
+MAX_POLICY_CHARS = 200  # a built-in name or package.module:ClassName
+MAX_MOTION_SCALE = 5.0  # the noise's truncation (12.5 % at 1) reaches 62.5 % of a motion
+SIM_SECONDS_RANGE = (10.0, 172_800.0)  # a run's simulated time: a move, a scan and a localization .. 2 days
+PERIOD_SECONDS_RANGE = (0.04, 3_600.0)  # one control step .. an hour
+MAX_THESIS_FIGURE = 10_000.0  # cm or degrees
+MAX_START_DEG = 360.0
+_SHOWN = reprlib.Repr()  # how a message shows a value: long strings, lists and deep nesting cut short
+_SHOWN.maxstring = _SHOWN.maxother = 80
+_SHOWN.maxlist = _SHOWN.maxdict = 10
 _ID_TEXT = f"an agent id: home_0..home_{MAX_PLAYERS_PER_TEAM - 1} or away_0..away_{MAX_PLAYERS_PER_TEAM - 1}"
 
 
@@ -64,7 +87,7 @@ class ScenarioFileError(ValueError):
     """A scenario file that cannot be used: ``"{path}: {key}: expected {expected}, got {got!r}"``."""
 
     def __init__(self, path: str | Path, key: str, expected: str, got: object) -> None:
-        super().__init__(f"{path}: {key}: expected {expected}, got {got!r}")
+        super().__init__(f"{path}: {key}: expected {expected}, got {_SHOWN.repr(got)}")
         self.path = path
         self.key = key
         self.expected = expected
@@ -98,19 +121,7 @@ def load_scenario(name_or_path: str | Path) -> ScenarioSpec:
         path = builtin_path(name_or_path)
     else:
         path = Path(name_or_path)
-    expected_file = f"an existing scenario file or one of {', '.join(NAMED_SCENARIOS)}"
-    if not path.is_file():
-        raise ScenarioFileError(path, "<file>", expected_file, str(name_or_path))
-    try:
-        text = path.read_bytes().decode("utf-8")
-    except OSError as exc:
-        raise ScenarioFileError(path, "<file>", expected_file, str(exc)) from exc
-    except UnicodeDecodeError as exc:
-        raise ScenarioFileError(path, "<syntax>", "a UTF-8 text file", str(exc)) from exc
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from exc
+    data = _read_toml(path, str(name_or_path))
     spec = parse_scenario(data, str(path))
     log.info(
         "scenario %r from %s: %d samples over %d runs, measured %s",
@@ -123,6 +134,40 @@ def load_scenario(name_or_path: str | Path) -> ScenarioSpec:
     return spec
 
 
+def _read_toml(path: Path, given: str) -> dict:
+    """The parsed TOML of ``path``: a regular file of at most :data:`MAX_FILE_BYTES`, UTF-8, valid and not
+    nested deeper than the parser can follow; a :class:`ScenarioFileError` naming the file otherwise."""
+    expected_file = f"an existing scenario file or one of {', '.join(NAMED_SCENARIOS)}"
+    try:
+        is_file = path.is_file()
+    except OSError as exc:  # a name too long
+        raise ScenarioFileError(path, "<file>", expected_file, exc.strerror) from exc
+    if not is_file:
+        raise ScenarioFileError(path, "<file>", expected_file, given)
+    too_big = f"a scenario file of at most {MAX_FILE_BYTES} bytes"
+    try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ScenarioFileError(path, "<file>", too_big, f"{size} bytes")
+        with path.open("rb") as handle:
+            raw = handle.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise ScenarioFileError(path, "<file>", expected_file, str(exc)) from exc
+    if len(raw) > MAX_FILE_BYTES:  # a file that grows, or one that says it has no size
+        raise ScenarioFileError(path, "<file>", too_big, f"more than {MAX_FILE_BYTES} bytes")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ScenarioFileError(path, "<syntax>", "a UTF-8 text file", str(exc)) from exc
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from exc
+    except RecursionError as exc:
+        raise ScenarioFileError(path, "<syntax>", "arrays and tables nested a few levels deep",
+                                "nesting deeper than the parser can follow") from exc
+
+
 def parse_scenario(data: dict, path: str) -> ScenarioSpec:
     """The scenario of a parsed file's ``data``; :class:`ScenarioFileError` for any mistake.
 
@@ -131,9 +176,9 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
     if not isinstance(data, dict):
         raise ScenarioFileError(path, "<file>", "a table of keys", data)
     top = _Table(data, "", path, "the top level", _TOP_KEYS)
-    name = top.string("name", nonempty=True)
-    description = top.string("description", default="")
-    samples = top.integer("samples", low=1)
+    name = top.string("name", nonempty=True, max_chars=MAX_NAME_CHARS)
+    description = top.string("description", default="", max_chars=MAX_DESCRIPTION_CHARS)
+    samples = top.integer("samples", low=1, high=MAX_SAMPLES)
     runs = top.integer("runs", default=1, low=1, high=samples, high_text="samples")
     seed = top.integer("seed", default=0, low=0, high=_SEED_LIMIT - 1)
     period = _sample_period(top)
@@ -147,11 +192,13 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
                          "its own way", top.get(key))
         methods, camera_model = (), "exact"
     referee = top.boolean("referee", default=False)
-    half_seconds = top.table("match", _MATCH_KEYS).number("half_seconds", default=600.0, positive=True)
-    motion_scale = top.table("noise", _NOISE_KEYS).number("motion_scale", default=1.0)
+    half_seconds = top.table("match", _MATCH_KEYS).number("half_seconds", default=600.0, low=HALF_SECONDS_MIN,
+                                                          high=HALF_SECONDS_MAX)
+    motion_scale = top.table("noise", _NOISE_KEYS).number("motion_scale", default=1.0, high=MAX_MOTION_SCALE)
     limits = top.table("limits", _LIMITS_KEYS)
-    limit = limits.number("max_sim_seconds_per_run", default=1200.0, positive=True)
-    warmup = limits.number("warmup_seconds", default=0.0)
+    limit = limits.number("max_sim_seconds_per_run", default=1200.0, low=SIM_SECONDS_RANGE[0],
+                          high=SIM_SECONDS_RANGE[1])
+    warmup = limits.number("warmup_seconds", default=0.0, high=SIM_SECONDS_RANGE[1])
     if warmup >= limit:
         limits.fail("warmup_seconds", f"a number of seconds below max_sim_seconds_per_run ({limit:g})", warmup)
     thesis = _thesis(top)
@@ -196,15 +243,17 @@ class _Table:
     def get(self, key: str, default: object = _MISSING) -> object:
         return self.data.get(key, default)
 
-    def string(self, key: str, default: object = _MISSING, nonempty: bool = False, choices: tuple[str, ...] = ()) -> str:
-        """A string; non-empty if asked; one of ``choices`` if given."""
+    def string(self, key: str, default: object = _MISSING, nonempty: bool = False, choices: tuple[str, ...] = (),
+               max_chars: int = MAX_NAME_CHARS) -> str:
+        """A string of at most ``max_chars`` characters; non-empty if asked; one of ``choices`` if given."""
         value = self.get(key, default)
         if choices:
             expected = f"one of {', '.join(repr(c) for c in choices)}"
             if not isinstance(value, str) or value not in choices:
                 self.fail(key, expected, value)
-        elif not isinstance(value, str) or (nonempty and not value.strip()):
-            self.fail(key, "a non-empty string" if nonempty else "a string", value)
+        elif not isinstance(value, str) or (nonempty and not value.strip()) or len(value) > max_chars:
+            self.fail(key, f"{'a non-empty string' if nonempty else 'a string'} of at most {max_chars} characters",
+                      value)
         return value
 
     def integer(self, key: str, default: object = _MISSING, low: int = 0, high: int | None = None, high_text: str = "") -> int:
@@ -218,11 +267,12 @@ class _Table:
             self.fail(key, expected, value)
         return value
 
-    def number(self, key: str, default: object = _MISSING, positive: bool = False) -> float:
-        """A finite number (int or float, not bool) ``>= 0``, or ``> 0`` if ``positive``."""
+    def number(self, key: str, default: object = _MISSING, low: float = 0.0, high: float = math.inf) -> float:
+        """A finite number (int or float, not bool) in ``[low, high]``."""
         value = self.get(key, default)
-        if not _is_number(value) or value < 0 or (positive and value == 0):
-            self.fail(key, f"a finite number {'> 0' if positive else '>= 0'}", value)
+        if not _is_number(value) or not low <= value <= high:
+            expected = f"a finite number in [{low:g}, {high:g}]" if high < math.inf else f"a finite number >= {low:g}"
+            self.fail(key, expected, value)
         return float(value)
 
     def boolean(self, key: str, default: object = _MISSING) -> bool:
@@ -265,15 +315,16 @@ def _sample_period(top: _Table) -> float | None:
     """``[sampling] period_seconds``: seconds of PLAYING time between samples (> 0); None without ``[sampling]``."""
     if not top.has("sampling"):
         return None
-    return top.table("sampling", _SAMPLING_KEYS).number("period_seconds", positive=True)
+    low, high = PERIOD_SECONDS_RANGE
+    return top.table("sampling", _SAMPLING_KEYS).number("period_seconds", low=low, high=high)
 
 
 def _thesis(top: _Table) -> ThesisReference | None:
-    """The optional ``[thesis]`` row: all four figures, numbers >= 0."""
+    """The optional ``[thesis]`` row: all four figures, numbers 0 .. :data:`MAX_THESIS_FIGURE`."""
     if not top.has("thesis"):
         return None
     table = top.table("thesis", _THESIS_KEYS)
-    return ThesisReference(*(table.number(key) for key in _THESIS_KEYS))
+    return ThesisReference(*(table.number(key, high=MAX_THESIS_FIGURE) for key in _THESIS_KEYS))
 
 
 def _robots(top: _Table, referee: bool, periodic: bool) -> tuple[RobotEntry, ...]:
@@ -302,7 +353,7 @@ def _robot(table: _Table, referee: bool, periodic: bool) -> RobotEntry:
         agent = AgentId.parse(raw_id)
     except ValueError as exc:
         raise ScenarioFileError(table.path, f"{table.prefix}id", _ID_TEXT, raw_id) from exc
-    policy = table.string("policy")
+    policy = table.string("policy", max_chars=MAX_POLICY_CHARS)
     try:
         factory = policy_factory(policy)
     except PolicyNameError as error:
@@ -342,8 +393,9 @@ def _start(table: _Table) -> Pose2D | None:
         return None
     x_max, y_max = FIELD.half_length, FIELD.half_width
     ok = isinstance(value, list) and len(value) == 3 and all(_is_number(v) for v in value)
-    if not ok or abs(value[0]) > x_max or abs(value[1]) > y_max:
-        expected = f"'random' or [x_m, y_m, theta_deg]: three finite numbers, |x_m| <= {x_max:g}, |y_m| <= {y_max:g}"
+    if not ok or abs(value[0]) > x_max or abs(value[1]) > y_max or abs(value[2]) > MAX_START_DEG:
+        expected = (f"'random' or [x_m, y_m, theta_deg]: three finite numbers, |x_m| <= {x_max:g}, |y_m| <= {y_max:g}, "
+                    f"|theta_deg| <= {MAX_START_DEG:g}")
         table.fail("start", expected, value)
     x, y, theta_deg = (float(v) for v in value)
     return Pose2D(x, y, math.radians(theta_deg))

@@ -5,8 +5,10 @@ that kills its process ends only its match) or as Ray tasks, through
 :func:`scenarios.common.batch.execute`. Each finished match writes its outputs to
 ``DIR/matches/NNN/`` and then its record to ``DIR/runs/match_NNNN.json`` (atomically), so
 a tournament interrupted with Ctrl-C or killed keeps what it finished, and ``resume``
-plays only the matches without a record (and those that failed). The report is built from
-the records in match order: the same whatever the worker count or the backend.
+plays only the matches without a record (and those that failed); a record that cannot be
+read back as its match's (damaged outside the tournament) is refused, naming the file,
+before anything is written. The report is built from the records in match order: the same
+whatever the worker count or the backend.
 
 With a page writer (the command line gives :func:`scenarios.replay.write_replay`), each
 worker writes its match's replay page right after the match, and it is kept in
@@ -19,14 +21,15 @@ import dataclasses
 import logging
 import shutil
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from tqdm import tqdm
 
 from agents.policies import policy_factory
 from match.runner import package_versions
-from scenarios.common.batch import BatchOptions, ResultStore, TaskResult, execute, require_ray
+from match.statistics import TEAM_KEYS
+from scenarios.common.batch import BatchOptions, ResultStore, TaskResult, check_fields, execute, require_ray
 from scenarios.common.io import write_text
 from scenarios.tournament.figures import plot_ratings, plot_standings
 from scenarios.tournament.play import play_match
@@ -83,10 +86,10 @@ def run_tournament(settings: TournamentSettings, out_dir: Path, options: BatchOp
     check_policies(settings)
     if options.backend == "ray":
         require_ray()
+    tasks = settings.tasks()
     store = ResultStore(out_dir, fingerprint=settings.fingerprint(), settings=settings.to_json(),
                         resume=options.resume, marker=MARKER_FILE, subdir=RECORDS_DIR, prefix="match", key="match",
-                        what="matches")
-    tasks = settings.tasks()
+                        what="matches", read=lambda index, data: stored_record(tasks, index, data))
     if not options.resume:
         _clear_matches(out_dir)
     records = {i: r for i, r in store.load().items() if r["status"] == "ok"}  # failed ones are played again
@@ -180,6 +183,37 @@ def match_record(task: MatchTask, result: TaskResult) -> dict:
             statistics=summary["statistics"],
         )
     return record
+
+
+_SCHEDULED = ("pair", "game", "seed", "home_policy", "away_policy", "home_entrant", "away_entrant")
+_PLAYED_FIELDS = {"home_goals": int, "away_goals": int, "home_shootout": (int, type(None)),
+                  "away_shootout": (int, type(None)), "winner_side": (str, type(None)), "sim_seconds": float,
+                  "wall_seconds": float, "statistics": dict}
+
+
+def stored_record(tasks: Sequence[MatchTask], index: int, data: dict) -> dict:
+    """A stored record of match ``index`` as the report reads it; ``ValueError`` when it is not that match's
+    (the schedule's fields differ) or a played match's record lacks a key or has one of another type."""
+    if index >= len(tasks):
+        raise ValueError(f"match {index} is not one of the tournament's {len(tasks)} matches")
+    expected = match_record(tasks[index], TaskResult(tasks[index], error=""))
+    check_fields(data, {key: type(expected[key]) for key in _SCHEDULED} | {"status": str})
+    for key in _SCHEDULED:
+        if data[key] != expected[key]:
+            raise ValueError(f"{key} = {repr(data[key])[:60]}; match {index} of this tournament has "
+                             f"{expected[key]!r}")
+    if data["status"] not in ("ok", "failed"):
+        raise ValueError(f"status = {data['status'][:40]!r}; expected 'ok' or 'failed'")
+    if data["status"] == "ok":
+        check_fields(data, _PLAYED_FIELDS)
+        if data["winner_side"] not in ("home", "away", None):
+            raise ValueError(f"winner_side = {data['winner_side'][:40]!r}; expected 'home', 'away' or null")
+        for side in ("home", "away"):
+            team = data["statistics"].get(side)
+            if not isinstance(team, dict):
+                raise ValueError(f"statistics.{side} is not an object")
+            check_fields(team, {key: (float, type(None)) for key in TEAM_KEYS if key in team}, f"statistics.{side}.")
+    return data
 
 
 def write_report(out_dir: Path, report: TournamentReport) -> list[Path]:
