@@ -18,7 +18,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from match.errors import MatchConfigError, UnknownAgentError
+from match.errors import MatchConfigError, StepRefusedError, UnknownAgentError
 from match.game import Match, MatchConfig
 from match.protocol.spaces import action_space, observation_space
 
@@ -94,10 +94,11 @@ class RobotStadiumEnv(ParallelEnv):
         return observations, self._infos()
 
     def step(self, actions: dict):
-        for agent in actions:
-            if agent not in self.agents:
-                raise UnknownAgentError(agent, self.agents)
-        result = self.match.step(actions)
+        """One control step for the live agents. A :class:`StepRefusedError` (actions not a dict of
+        agent id -> valid action, no live agent: before reset or after the end) changes nothing."""
+        if not self.agents:
+            raise StepRefusedError("no live agents (the episode has not started or is over); call reset() first")
+        result = self.match.step(actions)  # the live agents are all the match's agents: it checks the actions
         self.num_cycles += 1
         finished = result.finished
         truncated = self.num_cycles >= self.max_cycles
