@@ -4,7 +4,9 @@
 Agents are ``home_0..home_3`` and ``away_0..away_3`` (player 0 the goalkeeper). Spaces are
 in :mod:`match.protocol.spaces`. Rewards are +1/-1 per goal to every robot of the scoring /
 conceding team; all agents terminate when the match is finished and are truncated after
-``max_cycles`` steps. Ground truth is in ``infos`` only with ``privileged=True``.
+``max_cycles`` steps. Ground truth is in ``infos`` only with ``privileged=True``. A step is
+refused with a :class:`~match.errors.StepRefusedError` (bad actions, before ``reset``, after the
+end) before anything of it happens.
 """
 
 from __future__ import annotations

@@ -1,25 +1,28 @@
 """Actions, checked field by field before anything of a step is applied.
 
-One check for every path: :func:`parse_actions` (the whole step's actions) and
-:func:`parse_action` (one agent's) turn whatever an agent hands over (an action dict, an
-:class:`Action`, or None for "stand") into a frozen :class:`Action` of plain values, or
-raise a :class:`~match.errors.StepRefusedError` naming the agent, the field, the value and
-what was expected. An :class:`Action` is checked like a dict: its constructor checks
-nothing. :meth:`match.game.Match.check_actions` adds the world's walk limits, and
+One check for every path: :func:`parse_actions` (the whole step's dict of agent id ->
+action) and :func:`parse_action` (one agent's action) turn whatever an agent hands over (an
+action dict, an :class:`Action`, or None for "stand") into a frozen :class:`Action` of plain
+values, or raise a :class:`~match.errors.StepRefusedError` naming the agent, the field, the
+value and what was expected. An :class:`Action` is checked like a dict (its constructor
+checks nothing). :meth:`match.game.Match.check_actions` adds the world's walk limits, and
 :meth:`match.game.Match.step` applies nothing until every action has passed.
 
-What each field accepts (anything else is refused, with no coercion):
+What is accepted (anything else is refused, not converted):
 
-- ``motion``: a :class:`~world.motions.Motion`, its name (any case), or an integer index
-  into :data:`~match.protocol.spaces.MOTIONS` (a Python int or numpy integer, not a bool);
-  absent: stand.
+- keys, of the step's dict (agent ids) and of an action dict (field names): ``str`` (a
+  subclass is taken by its text; two keys of the same text are refused).
+- ``motion``: a :class:`~world.motions.Motion`, its name (ASCII, any case), or an integer
+  index into :data:`~match.protocol.spaces.MOTIONS` (a Python int or a numpy integer scalar
+  or 0-d array, not a bool); absent: stand.
 - ``walk`` (vx m/s, vy m/s, omega rad/s) and ``head`` (yaw rad, pitch rad): a list or tuple
-  of Python or numpy ints and floats (not bools, strings or complex numbers), or a 1-D numpy
-  array of integer or floating dtype (not a masked array); finite and within the action
-  space's bounds (the head's are its joint limits), values at most 1e-6 past a bound (float32
+  of Python ints and floats and numpy integer and floating scalars or 0-d arrays (not bools,
+  strings, complex numbers or sequences), or a 1-D numpy array of integer or floating dtype
+  (not a masked or object array); finite and within the action space's bounds (the head's are its
+  joint limits, the ones the world checks); values at most 1e-6 past a bound (float32
   rounding) are clamped onto it. ``walk`` absent: zeros; ``head`` absent or None: unchanged.
-- ``camera``: a :class:`~match.protocol.spaces.CameraChoice`, its name (any case) or an
-  integer 0-2 (not a bool); absent or None: unchanged.
+- ``camera``: a :class:`~match.protocol.spaces.CameraChoice`, its name (ASCII, any case) or
+  an integer 0-2 as for ``motion``; absent or None: unchanged.
 - ``radio``: bytes or bytearray of at most :data:`~match.protocol.packets.MAX_PACKET_BYTES`;
   absent, None or ``b""``: no packet.
 
