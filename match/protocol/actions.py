@@ -50,6 +50,8 @@ _CAMERA_NAMES = frozenset(c.name.lower() for c in CameraChoice)
 
 
 class _Missing:
+    """A field an :class:`Action` built without its constructor does not have."""
+
     def __repr__(self) -> str:
         return "<missing>"
 
@@ -59,7 +61,8 @@ _MISSING = _Missing()
 
 @dataclass(frozen=True)
 class Action:
-    """A checked action. ``None`` fields keep what the robot is doing."""
+    """An action of plain values as :func:`parse_action` returns it. ``None`` fields keep what
+    the robot is doing. The constructor checks nothing: a step checks every Action again."""
 
     motion: Motion
     walk: tuple[float, float, float] = (0.0, 0.0, 0.0)  # vx m/s, vy m/s, omega rad/s
