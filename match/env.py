@@ -4,7 +4,9 @@
 Agents are ``home_0..home_3`` and ``away_0..away_3`` (player 0 the goalkeeper). Spaces are
 in :mod:`match.protocol.spaces`. Rewards are +1/-1 per goal to every robot of the scoring /
 conceding team; all agents terminate when the match is finished and are truncated after
-``max_cycles`` steps. Ground truth is in ``infos`` only with ``privileged=True``.
+``max_cycles`` steps. Ground truth is in ``infos`` only with ``privileged=True``. A step is
+refused with a :class:`~match.errors.StepRefusedError` (bad actions, before ``reset``, after the
+end) before anything of it happens.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from match.errors import MatchConfigError, UnknownAgentError
+from match.errors import MatchConfigError, StepRefusedError, UnknownAgentError
 from match.game import Match, MatchConfig
 from match.protocol.spaces import action_space, observation_space
 
@@ -94,10 +96,11 @@ class RobotStadiumEnv(ParallelEnv):
         return observations, self._infos()
 
     def step(self, actions: dict):
-        for agent in actions:
-            if agent not in self.agents:
-                raise UnknownAgentError(agent, self.agents)
-        result = self.match.step(actions)
+        """One control step for the live agents. A :class:`StepRefusedError` (actions not a dict of
+        agent id -> valid action, no live agent: before reset or after the end) changes nothing."""
+        if not self.agents:
+            raise StepRefusedError("no live agents (the episode has not started or is over); call reset() first")
+        result = self.match.step(actions)  # the live agents are all the match's agents: it checks the actions
         self.num_cycles += 1
         finished = result.finished
         truncated = self.num_cycles >= self.max_cycles

@@ -19,11 +19,11 @@ from dataclasses import field as default
 
 import numpy as np
 
-from match.errors import InvalidActionError, MatchError, UnknownAgentError
+from match.errors import InvalidActionError, StepRefusedError
 from match.events import MatchEvent
 from match.free_play import FreePlay, free_play_control
 from match.observations import build_observation, game_observation, radio_observation
-from match.protocol.actions import Action, parse_action
+from match.protocol.actions import Action, parse_actions
 from match.protocol.game_control import GameControlView, GameState
 from match.protocol.ids import AgentId, Side, roster
 from match.protocol.spaces import CameraChoice
@@ -130,27 +130,24 @@ class Match:
 
     # ---- stepping ---------------------------------------------------------------------
 
-    def check_actions(self, actions: Mapping[str, object]) -> dict[AgentId, Action]:
-        """Every action parsed and checked; agents without one stand. Raises before anything changes."""
-        if not isinstance(actions, Mapping):
-            raise MatchError(f"actions must be a dict of agent id -> action; got {type(actions).__name__}")
-        for name in actions:
-            if name not in self._by_name:
-                raise UnknownAgentError(name, self.agent_names)
-        checked = {agent: parse_action(str(agent), actions.get(str(agent))) for agent in self.agents}
-        for agent, action in checked.items():
+    def check_actions(self, actions: object) -> dict[AgentId, Action]:
+        """Every action parsed and checked, the walk against the world's walk limits; agents
+        without one stand. Raises a :class:`StepRefusedError` before anything changes."""
+        parsed = parse_actions(actions, self.agent_names)
+        for name, action in parsed.items():
             if action.motion is Motion.WALK:
                 try:
                     self.config.world.walk_limits.check(*action.walk)
                 except InvalidCommandError as error:
-                    raise InvalidActionError(str(agent), "walk", action.walk, str(error)) from None
-        return checked
+                    raise InvalidActionError(name, "walk", action.walk, str(error)) from None
+        return {self._by_name[name]: action for name, action in parsed.items()}
 
     def step(self, actions: Mapping[str, object]) -> StepResult:
+        """One control step; a :class:`StepRefusedError` (bad actions, not started, finished) changes nothing."""
         if not self._started:
-            raise MatchError("call reset() before step()")
+            raise StepRefusedError("the match has not started; call reset() before step()")
         if self.finished:
-            raise MatchError("the match is finished; call reset() to start a new one")
+            raise StepRefusedError("the match is finished; call reset() to start a new one")
         checked = self.check_actions(actions)
         sent_now = self.world.time_s
         for agent, action in checked.items():

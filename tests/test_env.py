@@ -7,7 +7,7 @@ import pytest
 from pettingzoo.test import parallel_api_test
 
 from match import RobotStadiumEnv, parallel_env
-from match.errors import InvalidActionError, RadioPacketError, UnknownAgentError
+from match.errors import InvalidActionError, RadioPacketError, StepRefusedError, UnknownAgentError
 from match.game import MatchConfig
 from match.protocol import GameState, Motion, make_action
 from match.referee import RefereeConfig
@@ -94,8 +94,9 @@ def test_bad_action_is_refused_and_nothing_is_applied(action, error, words):
 def test_unknown_agent_is_refused():
     env = quick_env()
     env.reset(seed=1)
-    with pytest.raises(UnknownAgentError, match="home_7"):
+    with pytest.raises(UnknownAgentError, match="home_7") as raised:
         env.step({"home_7": make_action()})
+    assert isinstance(raised.value, StepRefusedError) and isinstance(raised.value, LookupError)
     env.close()
 
 
@@ -137,15 +138,25 @@ def test_match_end_terminates_every_agent():
         if not env.agents:
             break
     assert env.agents == [] and all(terminations.values()) and not any(truncations.values())
+    with pytest.raises(StepRefusedError, match="call reset"):
+        env.step({})
+    with pytest.raises(StepRefusedError, match="finished"):
+        env.match.step({})
     env.close()
 
 
 def test_truncation_at_max_cycles():
     env = quick_env(max_cycles=5)
+    with pytest.raises(StepRefusedError, match="call reset"):
+        env.step({})
     env.reset(seed=0)
     for _ in range(5):
         _, _, terminations, truncations, _ = env.step({a: make_action() for a in env.agents})
     assert all(truncations.values()) and not any(terminations.values()) and env.agents == []
+    time_s = env.match.world.time_s
+    with pytest.raises(StepRefusedError, match="call reset"):  # a truncated episode does not go on
+        env.step({})
+    assert env.match.world.time_s == time_s
     env.close()
 
 

@@ -3,8 +3,8 @@
 Pure Python (no pybullet): agents may import this package and nothing else of ``match``.
 """
 
-from match.errors import InvalidActionError, RadioPacketError, UnknownAgentError
-from match.protocol.actions import ACTION_KEYS, STAND, Action, make_action, parse_action
+from match.errors import InvalidActionError, RadioPacketError, StepRefusedError, UnknownAgentError
+from match.protocol.actions import ACTION_KEYS, STAND, Action, make_action, parse_action, parse_actions
 from match.protocol.game_control import DropIn, GameControlData, GameControlView, GameState, KickOff, SecondaryState
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side, roster
 from match.protocol.kickoff import (
@@ -68,6 +68,7 @@ __all__ = [
     "RadioPacketError",
     "SecondaryState",
     "Side",
+    "StepRefusedError",
     "TeamColor",
     "UnknownAgentError",
     "action_space",
@@ -77,6 +78,7 @@ __all__ = [
     "make_action",
     "observation_space",
     "parse_action",
+    "parse_actions",
     "roster",
     "throw_in_spot",
 ]

@@ -1,18 +1,42 @@
-"""One agent's action, checked field by field before anything is applied.
+"""Actions, checked field by field before anything of a step is applied.
 
-:func:`parse_action` turns the dict an agent hands the environment into a frozen
-:class:`Action`, or raises :class:`InvalidActionError` naming the agent, the field, the
-value and what was allowed. :func:`make_action` builds such a dict for agents.
+One check for every path: :func:`parse_actions` (the whole step's dict of agent id ->
+action) and :func:`parse_action` (one agent's action) turn whatever an agent hands over (an
+action dict, an :class:`Action`, or None for "stand") into a frozen :class:`Action` of plain
+values, or raise a :class:`~match.errors.StepRefusedError` naming the agent, the field, the
+value and what was expected. An :class:`Action` is checked like a dict (its constructor
+checks nothing). :meth:`match.game.Match.check_actions` adds the world's walk limits, and
+:meth:`match.game.Match.step` applies nothing until every action has passed.
+
+What is accepted (anything else is refused, not converted):
+
+- keys, of the step's dict (agent ids) and of an action dict (field names): ``str`` (a
+  subclass is taken by its text; two keys of the same text are refused).
+- ``motion``: a :class:`~world.motions.Motion`, its name (ASCII, any case), or an integer
+  index into :data:`~match.protocol.spaces.MOTIONS` (a Python int or a numpy integer scalar
+  or 0-d array, not a bool); absent: stand.
+- ``walk`` (vx m/s, vy m/s, omega rad/s) and ``head`` (yaw rad, pitch rad): a list or tuple
+  of Python ints and floats and numpy integer and floating scalars or 0-d arrays (not bools,
+  strings, complex numbers or sequences), or a 1-D numpy array of integer or floating dtype
+  (not a masked or object array); finite and within the action space's bounds (the head's are its
+  joint limits, the ones the world checks); values at most 1e-6 past a bound (float32
+  rounding) are clamped onto it. ``walk`` absent: zeros; ``head`` absent or None: unchanged.
+- ``camera``: a :class:`~match.protocol.spaces.CameraChoice`, its name (ASCII, any case) or
+  an integer 0-2 as for ``motion``; absent or None: unchanged.
+- ``radio``: bytes or bytearray of at most :data:`~match.protocol.packets.MAX_PACKET_BYTES`;
+  absent, None or ``b""``: no packet.
+
+:func:`make_action` builds an action dict for agents.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from match.errors import InvalidActionError, RadioPacketError
+from match.errors import InvalidActionError, RadioPacketError, StepRefusedError, UnknownAgentError, shown
 from match.protocol.packets import MAX_PACKET_BYTES
 from match.protocol.spaces import HEAD_HIGH, HEAD_LOW, MOTIONS, WALK_HIGH, WALK_LOW, CameraChoice
 from world.motions import Motion
@@ -20,11 +44,25 @@ from world.motions import Motion
 ACTION_KEYS = ("motion", "walk", "head", "camera", "radio")
 # float32 bounds of the action space may round just past the float64 limits
 _BOUND_SLACK = 1e-6
+_REAL_KINDS = "iuf"  # numpy dtype kinds taken as numbers: signed, unsigned, floating
+_MOTION_NAMES = frozenset(m.value for m in Motion)
+_CAMERA_NAMES = frozenset(c.name.lower() for c in CameraChoice)
+
+
+class _Missing:
+    """A field an :class:`Action` built without its constructor does not have."""
+
+    def __repr__(self) -> str:
+        return "<missing>"
+
+
+_MISSING = _Missing()
 
 
 @dataclass(frozen=True)
 class Action:
-    """A checked action. ``None`` fields keep what the robot is doing."""
+    """An action of plain values as :func:`parse_action` returns it. ``None`` fields keep what
+    the robot is doing. The constructor checks nothing: a step checks every Action again."""
 
     motion: Motion
     walk: tuple[float, float, float] = (0.0, 0.0, 0.0)  # vx m/s, vy m/s, omega rad/s
@@ -57,83 +95,206 @@ def make_action(
     return action
 
 
-def parse_action(agent: str, raw: object) -> Action:
-    """Check every field of ``raw`` (a dict, or None for "stand"), then build the Action.
+def parse_actions(actions: object, agents: Iterable[str]) -> dict[str, Action]:
+    """Every agent's checked action (agents without one stand), from a dict agent id -> action.
 
-    An :class:`Action` (already checked) is returned as it is.
+    Raises a :class:`StepRefusedError` when ``actions`` is not a dict, a key is not one of
+    ``agents`` (:class:`UnknownAgentError`) or an action is invalid (:class:`InvalidActionError`).
     """
+    agents = tuple(agents)
+    if not isinstance(actions, Mapping):
+        raise StepRefusedError(f"actions = {shown(actions)} is invalid; expected a dict of agent id -> action")
+    given: dict[str, object] = {}
+    for key, raw in _items(actions, None, "actions", "a dict of agent id -> action"):
+        name = _text(key)
+        if name not in agents:
+            raise UnknownAgentError(key, agents)
+        if name in given:
+            raise StepRefusedError(f"agent {shown(name)} is given two actions (keys equal as text)", name)
+        given[name] = raw
+    return {agent: parse_action(agent, given.get(agent)) for agent in agents}
+
+
+def parse_action(agent: str, raw: object) -> Action:
+    """Check every field of ``raw`` (an action dict, an :class:`Action`, or None for "stand")
+    and build the Action of plain values (see the module docstring for what is accepted)."""
     if raw is None:
         return STAND
     if isinstance(raw, Action):
-        return raw
-    if not isinstance(raw, Mapping):
-        raise InvalidActionError(agent, "action", raw, f"a dict with keys among {list(ACTION_KEYS)}, or None")
-    unknown = [k for k in raw if k not in ACTION_KEYS]
-    if unknown:
-        raise InvalidActionError(agent, str(unknown[0]), raw[unknown[0]], f"no such field; fields are {list(ACTION_KEYS)}")
-    motion = _motion(agent, raw.get("motion", MOTIONS.index(Motion.STAND)))
+        fields = _action_fields(agent, raw)
+    elif isinstance(raw, Mapping):
+        fields = _dict_fields(agent, raw)
+    else:
+        expected = f"a dict with keys among {list(ACTION_KEYS)}, an Action, or None"
+        raise InvalidActionError(agent, "action", raw, expected)
+    motion = _motion(agent, fields.get("motion", Motion.STAND))
     walk = (0.0, 0.0, 0.0)
-    if "walk" in raw:
-        walk = _vector(agent, "walk", raw["walk"], WALK_LOW, WALK_HIGH, "(vx m/s, vy m/s, omega rad/s)")
+    if "walk" in fields:
+        walk = _vector(agent, "walk", fields["walk"], WALK_LOW, WALK_HIGH, "(vx m/s, vy m/s, omega rad/s)")
     head = None
-    if raw.get("head") is not None:
-        head = _vector(agent, "head", raw["head"], HEAD_LOW, HEAD_HIGH, "(yaw rad, pitch rad)")
+    if fields.get("head") is not None:
+        head = _vector(agent, "head", fields["head"], HEAD_LOW, HEAD_HIGH, "(yaw rad, pitch rad)")
     camera = None
-    if raw.get("camera") is not None:
-        camera = _camera(agent, raw["camera"])
-    radio = _packet(agent, raw.get("radio", b""))
+    if fields.get("camera") is not None:
+        camera = _camera(agent, fields["camera"])
+    radio = _packet(agent, fields.get("radio"))
     return Action(motion=motion, walk=walk, head=head, camera=camera, radio=radio)
+
+
+def _dict_fields(agent: str, raw: Mapping) -> dict[str, object]:
+    fields: dict[str, object] = {}
+    for key, value in _items(raw, agent, "action", f"a dict with keys among {list(ACTION_KEYS)}"):
+        name = _text(key)
+        if name not in ACTION_KEYS:
+            field = shown(key) if name is None else name
+            raise InvalidActionError(agent, field, value, f"a field among {list(ACTION_KEYS)}")
+        if name in fields:
+            raise InvalidActionError(agent, name, value, "one value per field (keys equal as text)")
+        fields[name] = value
+    return fields
+
+
+def _action_fields(agent: str, raw: Action) -> dict[str, object]:
+    """The fields of an Action built without checks (a missing motion is refused)."""
+    fields: dict[str, object] = {}
+    for name in ACTION_KEYS:
+        try:
+            value = getattr(raw, name, _MISSING)
+        except Exception as error:  # a subclass's property may raise anything
+            raise InvalidActionError(agent, name, raw, f"a readable field ({type(error).__name__})") from None
+        if value is _MISSING:
+            raise InvalidActionError(agent, name, value, f"an Action with its field {name!r} set")
+        fields[name] = value
+    return fields
+
+
+def _items(mapping: Mapping, agent: str | None, what: str, expected: str) -> list[tuple[object, object]]:
+    """The items of a dict read once; a mapping whose items cannot be read is refused."""
+    try:
+        return list(dict(mapping).items())
+    except Exception as error:  # a user's Mapping may raise anything while read
+        message = f"{what} = {shown(mapping)} cannot be read ({type(error).__name__}); expected {expected}"
+        if agent is not None:
+            message = f"agent {shown(agent)}: {message}"
+        raise StepRefusedError(message, agent) from None
+
+
+def _text(key: object) -> str | None:
+    """A key as a plain str (str subclasses compared by their text), None if it is not text."""
+    return str.__str__(key) if isinstance(key, str) else None
+
+
+def _name(text: str) -> str | None:
+    """An ASCII name in lower case (case folding outside ASCII may turn other letters into names)."""
+    plain = str.__str__(text)
+    return plain.lower() if plain.isascii() else None
 
 
 def _motion(agent: str, value: object) -> Motion:
     if isinstance(value, Motion):
         return value
     if isinstance(value, str):
-        try:
-            return Motion.parse(value)
-        except ValueError:
-            pass
-    elif _is_integer(value) and 0 <= int(value) < len(MOTIONS):
-        return MOTIONS[int(value)]
-    raise InvalidActionError(
-        agent, "motion", value, f"an index in [0, {len(MOTIONS) - 1}] or a name among {[m.value for m in MOTIONS]}"
-    )
+        name = _name(value)
+        if name in _MOTION_NAMES:
+            return Motion(name)
+    else:
+        index = _index(value)
+        if index is not None and 0 <= index < len(MOTIONS):
+            return MOTIONS[index]
+    expected = f"a Motion, an index in [0, {len(MOTIONS) - 1}] or a name among {[m.value for m in MOTIONS]}"
+    raise InvalidActionError(agent, "motion", value, expected)
 
 
 def _camera(agent: str, value: object) -> CameraChoice:
-    if isinstance(value, str) and value.upper() in CameraChoice.__members__:
-        return CameraChoice[value.upper()]
-    if _is_integer(value) and int(value) in tuple(CameraChoice):
-        return CameraChoice(int(value))
-    raise InvalidActionError(agent, "camera", value, "0 (off), 1 (top) or 2 (bottom)")
+    if isinstance(value, CameraChoice):
+        return value
+    if isinstance(value, str):
+        name = _name(value)
+        if name in _CAMERA_NAMES:
+            return CameraChoice[name.upper()]
+    else:
+        index = _index(value)
+        if index is not None and index in tuple(CameraChoice):
+            return CameraChoice(index)
+    expected = "a CameraChoice, 0 (off), 1 (top), 2 (bottom) or one of their names"
+    raise InvalidActionError(agent, "camera", value, expected)
+
+
+def _index(value: object) -> int | None:
+    """An integer (Python int or numpy integer, scalar or 0-d array; not a bool) as an int, else None."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int):
+        return int.__index__(value)
+    if isinstance(value, np.generic) or type(value) is np.ndarray:
+        if value.dtype.kind in "iu" and value.shape == ():
+            return int(value[()])
+    return None
 
 
 def _vector(agent: str, field: str, value: object, low, high, meaning: str) -> tuple[float, ...]:
-    expected = f"{len(low)} finite numbers {meaning} within {list(low)} .. {list(high)}"
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidActionError(agent, field, value, expected) from None
-    if array.shape != (len(low),) or not np.all(np.isfinite(array)):
+    bounds = ", ".join(f"[{lo:.4f}, {hi:.4f}]" for lo, hi in zip(low, high))
+    expected = (
+        f"{len(low)} finite numbers {meaning} within {bounds}: a list or tuple of ints and floats, "
+        "or a numpy array of integer or floating dtype"
+    )
+    array = _numbers(value, len(low))
+    if array is None or not np.all(np.isfinite(array)):
         raise InvalidActionError(agent, field, value, expected)
     if np.any(array < np.asarray(low) - _BOUND_SLACK) or np.any(array > np.asarray(high) + _BOUND_SLACK):
         raise InvalidActionError(agent, field, value, expected)
-    return tuple(float(min(max(v, lo), hi)) for v, lo, hi in zip(array, low, high))
+    return tuple(float(min(max(v, lo), hi)) for v, lo, hi in zip(array.tolist(), low, high))
+
+
+def _numbers(value: object, size: int) -> np.ndarray | None:
+    """``size`` real numbers as float64 (values past float64's range become inf), None if not such numbers."""
+    if type(value) is np.ndarray:  # a subclass (a masked array) may mean more than its data
+        if value.dtype.kind not in _REAL_KINDS or value.shape != (size,):
+            return None
+        with np.errstate(over="ignore"):
+            return value.astype(np.float64)
+    if not isinstance(value, (list, tuple)):
+        return None
+    try:
+        items = list(value)
+        if len(items) != size or not all(_is_real_scalar(v) for v in items):
+            return None
+        return np.array([_as_float(v) for v in items], dtype=np.float64)
+    except Exception:  # a subclass's iteration or conversion may raise anything
+        return None
+
+
+def _is_real_scalar(value: object) -> bool:
+    """A Python int or float (not a bool), or a numpy integer or floating scalar (or 0-d array)."""
+    if isinstance(value, bool):
+        return False
+    if isinstance(value, (int, float)):
+        return True
+    if isinstance(value, np.generic) or (type(value) is np.ndarray and value.shape == ()):
+        return value.dtype.kind in _REAL_KINDS
+    return False
+
+
+def _as_float(value: object) -> float:
+    if isinstance(value, int):
+        number = int.__index__(value)
+        try:
+            return float(number)
+        except OverflowError:  # past float64's range
+            return float("inf") if number > 0 else float("-inf")
+    if isinstance(value, float):
+        return float.__float__(value)
+    with np.errstate(over="ignore"):
+        return float(np.float64(value))
 
 
 def _packet(agent: str, value: object) -> bytes:
+    expected = f"bytes or bytearray of length at most {MAX_PACKET_BYTES} (b'' or None for no packet)"
     if value is None:
         return b""
     if not isinstance(value, (bytes, bytearray)):
-        raise RadioPacketError(agent, "radio", value, f"bytes of length at most {MAX_PACKET_BYTES} (b'' for none)")
-    if len(value) > MAX_PACKET_BYTES:
-        raise RadioPacketError(agent, "radio", f"<{len(value)} bytes>", f"at most {MAX_PACKET_BYTES} bytes")
-    return bytes(value)
-
-
-def _is_integer(value: object) -> bool:
-    if isinstance(value, bool):
-        return False
-    if isinstance(value, (int, np.integer)):
-        return True
-    return isinstance(value, np.ndarray) and value.shape == () and np.issubdtype(value.dtype, np.integer)
+        raise RadioPacketError(agent, "radio", value, expected)
+    view = memoryview(value)  # the buffer itself, whatever a subclass's __len__ or __bytes__ say
+    if view.nbytes > MAX_PACKET_BYTES:
+        raise RadioPacketError(agent, "radio", value, f"at most {MAX_PACKET_BYTES} bytes, got {view.nbytes} bytes")
+    return view.tobytes()
