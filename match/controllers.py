@@ -14,11 +14,16 @@ kinds give the same decisions for policies that behave:
   Observations go out and actions come back over pipes; the processes of one step work in
   parallel. A controller that has not answered within the step budget
   (:attr:`ControllerLimits.step_budget_s`) gets its robots a stand for that step and a
-  fault; while it is still busy its robots stand without new faults, and its late answer is
-  dropped. One still busy :attr:`ControllerLimits.hang_s` after its deadline, one that dies
-  and one whose resident memory passes :attr:`ControllerLimits.memory_mb` is stopped,
-  recorded, and restarted (built and reset again with the same seeds); its robots stand
-  until it is back.
+  fault; while it is still busy its robots stand, and its late answer is dropped. It is then
+  on probation: steps no longer wait for it (its answer counts when it comes while the others
+  are awaited), so a slow controller cannot slow the match, and every late answer over the
+  budget is a fault with the time it took; :data:`PROBATION_ANSWERS` answers within the
+  budget in a row end the probation. One still busy :attr:`ControllerLimits.hang_s` after
+  its deadline, one that dies and one whose resident memory passes
+  :attr:`ControllerLimits.memory_mb` is stopped, recorded, and restarted on probation (built
+  and reset again with the same seeds); its robots stand until it is back. Only controllers
+  that break their budget make a run depend on timing: for all others, process and
+  in-process runs are the same, byte for byte.
 
 A fault is anything a policy raises (every ``BaseException`` but ``KeyboardInterrupt``:
 ``SystemExit`` and ``os._exit`` in a controller process included), an action that fails the
@@ -51,6 +56,7 @@ log = logging.getLogger(__name__)
 PolicyFactory = Callable[[], Policy]  # builds a robot's policy; picklable for controller processes
 GROUPS = ("robot", "team")
 MEMORY_CHECK_EVERY_STEPS = 25
+PROBATION_ANSWERS = 3  # answers within the step budget in a row that end a controller's probation
 # the allowed range of each number of ControllerLimits (seconds, MiB)
 LIMIT_BOUNDS = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
                 "memory_mb": (64.0, 1_048_576.0)}
@@ -178,6 +184,8 @@ class ProcessControllers:
     def start(self, seeds: Mapping[str, int]) -> Decision:
         faults: list[PolicyFault] = []
         for controller in self._controllers:
+            controller.stop()  # from an earlier match, if any
+            controller.probation = False
             controller.seeds = {a: int(seeds[a]) for a in controller.agents}
             faults += controller.launch()
         self._collect(self._controllers, _started, time.perf_counter() + self.limits.start_budget_s, faults)
@@ -196,12 +204,15 @@ class ProcessControllers:
         asked = [c for c in self._controllers if c.ready and not c.busy]
         for controller in asked:
             faults += controller.ask({a: observations[a] for a in controller.agents if a in observations})
-        self._collect(asked, _answered, time.perf_counter() + self.limits.step_budget_s, faults)
+        in_good_standing = [c for c in asked if not c.probation]
+        self._collect(in_good_standing, _answered, time.perf_counter() + self.limits.step_budget_s, faults)
         actions: dict[str, Action | None] = dict.fromkeys(self.agents)
         for controller in asked:
+            controller.closed_step = True
             if controller.answer is not None:
                 actions.update(controller.answer)
-            elif controller.busy:
+            elif controller.busy and not controller.probation:
+                controller.probation = True
                 faults += [PolicyFault(a, f"ControllerTimeout: no action within the step budget of "
                                           f"{self.limits.step_budget_s:g} s") for a in controller.agents]
         return Decision(actions, tuple(faults), dict(self._estimates), dict(self._reports))
@@ -229,7 +240,7 @@ class ProcessControllers:
                 return
             for conn in ready:
                 controller = waiting[conn]
-                faults += controller.receive(self._estimates, self._reports)
+                faults += controller.receive(self._estimates, self._reports, self.limits.step_budget_s)
                 if done(controller):
                     pending.discard(id(controller))
 
@@ -257,6 +268,9 @@ class _Controller:
         self.asked_at = 0.0
         self.sequence = 0
         self.answer: dict[str, Action | None] | None = None
+        self.closed_step = False  # the step it was last asked for has been played
+        self.probation = False  # missed a deadline: steps do not wait for it (see ProcessControllers)
+        self.answers_in_budget = 0  # on probation: answers within the budget in a row
 
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
@@ -276,11 +290,12 @@ class _Controller:
     def ask(self, observations: Mapping[str, Mapping[str, Any]]) -> list[PolicyFault]:
         self.sequence += 1
         self.answer = None
+        self.closed_step = False
         self.busy = True
         self.asked_at = time.perf_counter()
         return self._send(("act", self.sequence, observations))
 
-    def receive(self, estimates: dict, reports: dict) -> list[PolicyFault]:
+    def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
         """Read one message (an answer, a late answer, a reset's answer) or the process's death."""
         assert self.conn is not None
         try:
@@ -290,11 +305,11 @@ class _Controller:
         except Exception as error:  # an answer that cannot be unpickled
             return self.restart(f"ControllerDied: unreadable answer ({_describe(error)})")
         try:
-            return self._handle(message, estimates, reports)
+            return self._handle(message, estimates, reports, budget_s)
         except (TypeError, ValueError, IndexError, KeyError, AttributeError) as error:
             return self.restart(f"ControllerDied: malformed answer ({_describe(error)})")
 
-    def _handle(self, message: tuple, estimates: dict, reports: dict) -> list[PolicyFault]:
+    def _handle(self, message: tuple, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
         kind = message[0]
         faults = [PolicyFault(str(a), str(error), where) for a, error, where in message[-1] if a in self.agents]
         if kind == "reset":
@@ -303,7 +318,9 @@ class _Controller:
         elif kind == "act":
             _, sequence, actions, new_estimates, new_reports, _ = message
             self.busy = False
-            if sequence == self.sequence:
+            took_s = time.perf_counter() - self.asked_at
+            self._on_probation_answer(took_s <= budget_s)
+            if sequence == self.sequence and self.answer is None and not self.closed_step:
                 self.answer = {}
                 for agent in self.agents:  # checked again on this side: the process may send anything
                     try:
@@ -312,13 +329,21 @@ class _Controller:
                         self.answer[agent] = None
                         faults.append(PolicyFault.of(agent, error))
                 self._update_reports(new_estimates, new_reports, estimates, reports)
-            else:
+            else:  # its step was played without it
                 faults = []
-                log.info("controller of %s answered %.2f s late", ",".join(self.agents),
-                         time.perf_counter() - self.asked_at)
+                if self.probation and took_s > budget_s:
+                    faults = [PolicyFault(a, f"ControllerTimeout: answered after {took_s:.2f} s, over the step "
+                                             f"budget of {budget_s:g} s") for a in self.agents]
         else:
             raise ValueError(f"unknown message kind {kind!r}")
         return faults
+
+    def _on_probation_answer(self, within_budget: bool) -> None:
+        if not self.probation:
+            return
+        self.answers_in_budget = self.answers_in_budget + 1 if within_budget else 0
+        if self.answers_in_budget >= PROBATION_ANSWERS:
+            self.probation, self.answers_in_budget = False, 0
 
     def _update_reports(self, new_estimates: Mapping, new_reports: Mapping, estimates: dict, reports: dict) -> None:
         """The reports of this controller's robots, checked again on this side (unpickling skips the checks)."""
@@ -367,6 +392,7 @@ class _Controller:
         if self.conn is not None:
             self.conn.close()
         self.process, self.conn, self.ready, self.busy, self.answer = None, None, False, False, None
+        self.probation, self.answers_in_budget = True, 0  # a restarted controller starts on probation
 
     def _send(self, message: tuple) -> list[PolicyFault]:
         assert self.conn is not None

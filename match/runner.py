@@ -5,9 +5,11 @@ Every run goes through :func:`run_match`: full matches, tournaments, and the sce
 :meth:`reset` with the robot's id and a seed before the first step, then ``act(observation)``
 every control step; a :class:`~match.protocol.policy.PoseReporter` has its estimate logged
 beside the truth, an :class:`~match.protocol.policy.AgentReporter` its report
-(:mod:`match.reports`). A policy that raises, or returns an invalid action, does not end the
-match: its robot stands still for that step and the fault is recorded; a report that raises
-or does not fit is logged as nothing (NaN) with one warning per robot.
+(:mod:`match.reports`). They run in this process or in controller processes
+(:mod:`match.controllers`). A policy that raises, returns an invalid action, misses its step
+budget or dies does not end the match: its robot stands still for that step and the fault
+is recorded (agent, step, time, error); a report that raises or does not fit is logged as
+nothing (NaN) with one warning per robot. The outputs are written however the run ends.
 
 Whoever needs to watch the run (a localization-sample collector, a video writer) passes a
 :class:`MatchObserver`: it sees the match after the policies decided each step, and can end

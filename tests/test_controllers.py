@@ -20,7 +20,7 @@ QUICK = {"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}
 GOOD = "tests.user_policies:Counted"
 FAULTY = {"home_0": "tests.user_policies:Misbehaves", "home_1": "tests.user_policies:ExitsOften",
           "home_2": "tests.user_policies:Sleeps", "home_3": "tests.user_policies:Hoards"}
-LIMITS = ControllerLimits(step_budget_s=0.25, hang_s=0.5, memory_mb=1024.0, group="robot")
+LIMITS = ControllerLimits(step_budget_s=0.25, hang_s=0.5, memory_mb=400.0, group="robot")
 
 
 def play(out: Path, lineup: Lineup, limits: ControllerLimits | None) -> tuple[dict, float]:
@@ -49,7 +49,7 @@ def test_faulty_controllers_cost_only_their_robots(tmp_path: Path) -> None:
         acts = np.rint(estimates[:, agents.index(agent), 0] * 100.0)
         assert np.array_equal(acts[1:], np.arange(1, STEPS + 1) % 100), agent
     assert np.isnan(estimates[:, agents.index("home_0"), 0]).all()  # a pose of two numbers is logged as none
-    assert faulty_wall < 1.5 * clean_wall + 2.0, (faulty_wall, clean_wall)
+    assert faulty_wall < 1.5 * clean_wall + 3.0, (faulty_wall, clean_wall)  # 1.3-1.5x measured on 2 cores
 
 
 def test_controller_processes_play_the_same_match_as_in_process(tmp_path: Path) -> None:
