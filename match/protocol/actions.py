@@ -31,6 +31,7 @@ What is accepted (anything else is refused, not converted):
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -233,33 +234,32 @@ def _index(value: object) -> int | None:
 
 
 def _vector(agent: str, field: str, value: object, low, high, meaning: str) -> tuple[float, ...]:
-    bounds = ", ".join(f"[{lo:.4f}, {hi:.4f}]" for lo, hi in zip(low, high))
-    expected = (
-        f"{len(low)} finite numbers {meaning} within {bounds}: a list or tuple of ints and floats, "
-        "or a numpy array of integer or floating dtype"
-    )
-    array = _numbers(value, len(low))
-    if array is None or not np.all(np.isfinite(array)):
+    numbers = _numbers(value, len(low))
+    if numbers is None or not all(
+            math.isfinite(v) and lo - _BOUND_SLACK <= v <= hi + _BOUND_SLACK for v, lo, hi in zip(numbers, low, high)):
+        bounds = ", ".join(f"[{lo:.4f}, {hi:.4f}]" for lo, hi in zip(low, high))
+        expected = (f"{len(low)} finite numbers {meaning} within {bounds}: a list or tuple of ints and floats, "
+                    "or a numpy array of integer or floating dtype")
         raise InvalidActionError(agent, field, value, expected)
-    if np.any(array < np.asarray(low) - _BOUND_SLACK) or np.any(array > np.asarray(high) + _BOUND_SLACK):
-        raise InvalidActionError(agent, field, value, expected)
-    return tuple(float(min(max(v, lo), hi)) for v, lo, hi in zip(array.tolist(), low, high))
+    return tuple(min(max(v, lo), hi) for v, lo, hi in zip(numbers, low, high))
 
 
-def _numbers(value: object, size: int) -> np.ndarray | None:
-    """``size`` real numbers as float64 (values past float64's range become inf), None if not such numbers."""
+def _numbers(value: object, size: int) -> list[float] | None:
+    """``size`` real numbers as Python floats (values past float64's range become inf), None if not such numbers."""
     if type(value) is np.ndarray:  # a subclass (a masked array) may mean more than its data
         if value.dtype.kind not in _REAL_KINDS or value.shape != (size,):
             return None
-        with np.errstate(over="ignore"):
-            return value.astype(np.float64)
+        if value.dtype.itemsize <= 8 or value.dtype.kind != "f":
+            return value.astype(np.float64).tolist()
+        with np.errstate(over="ignore"):  # a long double past float64's range
+            return value.astype(np.float64).tolist()
     if not isinstance(value, (list, tuple)):
         return None
     try:
         items = list(value)
         if len(items) != size or not all(_is_real_scalar(v) for v in items):
             return None
-        return np.array([_as_float(v) for v in items], dtype=np.float64)
+        return [_as_float(v) for v in items]
     except Exception:  # a subclass's iteration or conversion may raise anything
         return None
 
