@@ -79,7 +79,7 @@ class ControllerLimits:
     start_budget_s: float = 120.0
     hang_s: float = 10.0
     memory_mb: float = 2048.0
-    group: str = "robot"
+    group: str = "team"
 
     def __post_init__(self) -> None:
         for name, (low, high) in LIMIT_BOUNDS.items():
