@@ -21,7 +21,9 @@ kinds give the same decisions for policies that behave:
   budget in a row end the probation. One still busy :attr:`ControllerLimits.hang_s` after
   its deadline, one that dies and one whose resident memory passes
   :attr:`ControllerLimits.memory_mb` is stopped, recorded, and restarted on probation (built
-  and reset again with the same seeds); its robots stand until it is back. Only controllers
+  and reset again with the same seeds); its robots stand until it is back. One that fails
+  before it was ready (its build or reset ends its process) or after :data:`MAX_RESTARTS`
+  restarts stays stopped: its robots stand for the rest of the match. Only controllers
   that break their budget make a run depend on timing: for all others, process and
   in-process runs are the same, byte for byte.
 
@@ -57,6 +59,7 @@ PolicyFactory = Callable[[], Policy]  # builds a robot's policy; picklable for c
 GROUPS = ("robot", "team")
 MEMORY_CHECK_EVERY_STEPS = 25
 PROBATION_ANSWERS = 3  # answers within the step budget in a row that end a controller's probation
+MAX_RESTARTS = 100  # restarts of one controller in a match; then it stays stopped (each costs about 20-50 ms)
 # the allowed range of each number of ControllerLimits (seconds, MiB)
 LIMIT_BOUNDS = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
                 "memory_mb": (64.0, 1_048_576.0)}
@@ -185,12 +188,12 @@ class ProcessControllers:
         faults: list[PolicyFault] = []
         for controller in self._controllers:
             controller.stop()  # from an earlier match, if any
-            controller.probation = False
+            controller.probation, controller.restarts = False, 0
             controller.seeds = {a: int(seeds[a]) for a in controller.agents}
             faults += controller.launch()
         self._collect(self._controllers, _started, time.perf_counter() + self.limits.start_budget_s, faults)
         for controller in self._controllers:
-            if not controller.ready:
+            if not _started(controller):
                 faults += controller.fail(f"did not start within {self.limits.start_budget_s:g} s")
         return Decision({}, tuple(faults), dict(self._estimates), dict(self._reports))
 
@@ -271,6 +274,7 @@ class _Controller:
         self.closed_step = False  # the step it was last asked for has been played
         self.probation = False  # missed a deadline: steps do not wait for it (see ProcessControllers)
         self.answers_in_budget = 0  # on probation: answers within the budget in a row
+        self.restarts = 0  # in this match
 
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
@@ -367,12 +371,19 @@ class _Controller:
         return []
 
     def restart(self, reason: str) -> list[PolicyFault]:
+        """Stop it and start it again, unless it never got ready or has been restarted too often: then for good."""
+        if not self.ready and not self.busy:
+            return self.fail(f"{reason}, before it was ready")
+        if self.restarts >= MAX_RESTARTS:
+            return self.fail(f"{reason}, after {MAX_RESTARTS} restarts")
         log.warning("controller of %s: %s; restarting it", ",".join(self.agents), reason)
+        self.restarts += 1
         self.stop()
         return [PolicyFault(a, reason) for a in self.agents] + self.launch()
 
     def fail(self, reason: str) -> list[PolicyFault]:
         """Stop it for good: its robots stand for the rest of the match."""
+        log.warning("controller of %s: %s; its robots stand from now on", ",".join(self.agents), reason)
         self.stop()
         return [PolicyFault(a, f"ControllerFailed: {reason}") for a in self.agents]
 

@@ -67,3 +67,14 @@ def test_controller_processes_play_the_same_match_as_in_process(tmp_path: Path) 
 def test_controller_limits_are_checked(settings: dict) -> None:
     with pytest.raises(MatchConfigError, match=next(iter(settings))):
         ControllerLimits(**settings)
+
+
+def test_a_controller_that_dies_before_it_is_ready_stays_stopped(tmp_path: Path) -> None:
+    lineup = Lineup("stand", "stand", {"home_0": "tests.user_policies:ExitsOnReset"})
+    run_lineup_match(tmp_path, lineup, home=1, away=1, half_seconds=60.0, seed=1, progress=False, max_steps=40,
+                     referee=QUICK, controllers=LIMITS)
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert summary["completed"] and summary["steps"] == 40
+    assert summary["faults"]["by_agent"] == {"home_0": 1}
+    error = summary["faults"]["details"][0]["error"]
+    assert error.startswith("ControllerFailed") and "exit code 6" in error and "before it was ready" in error

@@ -147,3 +147,10 @@ class Hoards(Spinner):
     def act(self, observation: dict) -> dict:
         self.hoard.append(np.ones(1_250_000))
         return make_action(Motion.STAND, camera=CameraChoice.OFF)
+
+
+class ExitsOnReset(Spinner):
+    """Ends its own process (``os._exit(6)``) when it is reset."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        os._exit(6)
