@@ -165,8 +165,10 @@ def run_match(
     however the run ends; one stopped by an error or Ctrl-C has ``completed`` False in its
     summary, and the error is raised again.
     """
-    controllers = policies if isinstance(policies, (InProcessControllers, ProcessControllers)) else None
-    controllers = controllers or InProcessControllers(policies)
+    if isinstance(policies, (InProcessControllers, ProcessControllers)):
+        controllers: Controllers = policies
+    else:
+        controllers = InProcessControllers(policies)
     try:
         return _run(config, controllers, seed, out_dir, progress, max_steps, match or Match(config), observer,
                     policy_seeds)
