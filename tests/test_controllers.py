@@ -78,3 +78,15 @@ def test_a_controller_that_dies_before_it_is_ready_stays_stopped(tmp_path: Path)
     assert summary["faults"]["by_agent"] == {"home_0": 1}
     error = summary["faults"]["details"][0]["error"]
     assert error.startswith("ControllerFailed") and "exit code 6" in error and "before it was ready" in error
+
+
+def test_in_process_every_fault_of_a_policy_is_contained_too(tmp_path: Path) -> None:
+    lineup = Lineup("stand", "stand", {"home_0": "tests.user_policies:Misbehaves",
+                                       "away_0": "tests.user_policies:RaisesOnReset"})
+    run_lineup_match(tmp_path, lineup, home=1, away=1, half_seconds=60.0, seed=1, progress=False, max_steps=30,
+                     referee=QUICK, controllers=None)
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert summary["completed"] and summary["steps"] == 30
+    assert summary["faults"]["by_agent"] == {"home_0": 30, "away_0": 1}  # every act of Misbehaves is a fault
+    errors = {d["error"].split(":")[0] for d in summary["faults"]["details"]}
+    assert errors == {"RuntimeError", "SystemExit", "InvalidActionError"}

@@ -154,3 +154,11 @@ class ExitsOnReset(Spinner):
 
     def reset(self, agent_id: str, seed: int) -> None:
         os._exit(6)
+
+
+class RaisesOnReset(Spinner):
+    """Its reset raises; its acts are fine."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        super().reset(agent_id, seed)
+        raise RuntimeError("cannot reset")
