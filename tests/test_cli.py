@@ -105,6 +105,7 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
     assert results["repeats"] == QUICK_REPEATS
     machine = results["machine"]
     assert machine["cpu_count"] >= 1 and machine["pybullet_api_version"] > 0 and machine["python"]
+    assert "numpy_simd" in machine and machine["architecture"]
     assert "render" in capsys.readouterr().out
 
 

@@ -198,8 +198,9 @@ def bench_env(repeats: int) -> dict[str, float]:
 
 
 def bench_match(repeats: int) -> dict[str, float]:
-    """Simulated seconds per wall second of an 8-robot match with the runner's default policies
-    (``2 * repeats`` control steps from the kick-off)."""
+    """Simulated seconds per wall second of an 8-robot match with the default policies in their default
+    controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off)."""
+    from match.controllers import ControllerLimits
     from match.game import Match
     from match.runner import run_match
     from scenarios.matches.play import Lineup, match_config
@@ -208,7 +209,7 @@ def bench_match(repeats: int) -> dict[str, float]:
     config = replace(config, referee=replace(config.referee, **QUICK_START))
     match = Match(config)
     try:
-        summary = run_match(config, Lineup().policies(match.agents), seed=0, progress=False,
+        summary = run_match(config, Lineup().controllers(match.agents, ControllerLimits()), seed=0, progress=False,
                             max_steps=2 * repeats, match=match)
     finally:
         match.close()
@@ -297,22 +298,12 @@ def summarize(name: str, samples_ms: np.ndarray) -> dict[str, float]:
 
 
 def machine_info() -> dict[str, object]:
-    cpu = None
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    return {
-        "cpu_model": cpu or platform.processor() or None,
-        "cpu_count": os.cpu_count(),
-        "python": platform.python_version(),
-        "pybullet_api_version": pb.getAPIVersion(),
-        "platform": platform.platform(),
-    }
+    """The machine as every match summary records it (:func:`match.runner.machine_description`), with the
+    core count and the Python and pybullet versions."""
+    from match.runner import machine_description
+
+    return {**machine_description(), "cpu_count": os.cpu_count(), "python": platform.python_version(),
+            "pybullet_api_version": pb.getAPIVersion(), "platform": platform.platform()}
 
 
 def run_bench(out_dir: Path, repeats: int = DEFAULT_REPEATS, benchmarks: Sequence[Benchmark] = BENCHMARKS) -> dict:
