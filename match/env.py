@@ -62,7 +62,7 @@ class RobotStadiumEnv(ParallelEnv):
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise MatchConfigError(
                 f"render_mode {render_mode!r}; expected None or one of {self.metadata['render_modes']}"
-                " (no window: OpenCV is headless; show the 'rgb_array' frames yourself)"
+                " (opencv-python-headless opens no window; show the 'rgb_array' frames yourself)"
             )
         if not isinstance(max_cycles, int) or max_cycles < 1:
             raise MatchConfigError(f"max_cycles {max_cycles!r}; expected an integer >= 1")
