@@ -1,36 +1,52 @@
-"""PettingZoo parallel environment: a thin adapter over :class:`match.game.Match`.
+"""PettingZoo environment: a thin adapter over :class:`match.game.Match`.
 
 ``from match import parallel_env``; ``env = parallel_env(home_players=2, away_players=2)``.
-Agents are ``home_0..home_3`` and ``away_0..away_3`` (player 0 the goalkeeper). Spaces are
-in :mod:`match.protocol.spaces`. Rewards are +1/-1 per goal to every robot of the scoring /
-conceding team; all agents terminate when the match is finished and are truncated after
-``max_cycles`` steps. Ground truth is in ``infos`` only with ``privileged=True``. A step is
-refused with a :class:`~match.errors.StepRefusedError` (bad actions, before ``reset``, after the
-end) before anything of it happens.
+:func:`env` and :func:`raw_env` give the same match as a PettingZoo AEC env (robots act in
+turn, the match steps once all have acted). Agents are ``home_0..home_3`` and ``away_0..away_3``
+(player 0 the goalkeeper). Spaces are in :mod:`match.protocol.spaces`; the global
+:meth:`~RobotStadiumEnv.state` is in :mod:`match.env_state`. Rewards are +1/-1 per goal to
+every robot of the scoring / conceding team; all agents terminate when the match is finished
+and are truncated after ``max_cycles`` steps. Ground truth is in ``infos`` only with
+``privileged=True``. A step is refused with a :class:`~match.errors.StepRefusedError` (bad
+actions, before ``reset``, after the end, after ``close``) before anything of it happens.
 """
 
 from __future__ import annotations
 
 import logging
-import os
 from dataclasses import replace
 
 import cv2
 import numpy as np
 from gymnasium import spaces
-from pettingzoo import ParallelEnv
+from pettingzoo import AECEnv, ParallelEnv
+from pettingzoo.utils.conversions import parallel_to_aec, parallel_to_aec_wrapper
 
-from match.errors import MatchConfigError, StepRefusedError, UnknownAgentError
+from match.env_state import global_state, state_space
+from match.errors import EnvClosedError, MatchConfigError, StepRefusedError, UnknownAgentError
 from match.game import Match, MatchConfig
 from match.protocol.spaces import action_space, observation_space
 
 log = logging.getLogger(__name__)
 
 DEFAULT_MAX_CYCLES = 100_000  # 4000 s of simulated time: a full match with its pauses fits
+ACTION_SPACE_SEED = 0  # agent i's action space is seeded once, at construction, with this + i
 
 
 class RobotStadiumEnv(ParallelEnv):
-    metadata = {"name": "robotstadium_v0", "render_modes": ["rgb_array", "human"], "render_fps": 25, "is_parallelizable": True}
+    """The match as a PettingZoo parallel env.
+
+    Action spaces are seeded once, at construction (agent ``i`` of ``possible_agents`` with
+    ``ACTION_SPACE_SEED + i``), so that two envs built alike sample the same actions; ``reset``
+    never seeds them, so ``env.action_space(agent).seed(n)`` holds until the user seeds again.
+
+    A copy (``pickle``, ``copy.copy``, ``copy.deepcopy``) is a new env with the same settings
+    and its own physics world, not a snapshot: it must be ``reset()`` before ``step``, its
+    action spaces are seeded as at construction, and its ``reset()`` without a seed draws the
+    seed the original's next ``reset()`` without a seed would draw.
+    """
+
+    metadata = {"name": "robotstadium_v0", "render_modes": ["rgb_array"], "render_fps": 25, "is_parallelizable": True}
 
     def __init__(
         self,
@@ -44,9 +60,21 @@ class RobotStadiumEnv(ParallelEnv):
         config: MatchConfig | None = None,
     ):
         if render_mode not in (None, *self.metadata["render_modes"]):
-            raise MatchConfigError(f"render_mode {render_mode!r}; expected None or one of {self.metadata['render_modes']}")
+            raise MatchConfigError(
+                f"render_mode {render_mode!r}; expected None or one of {self.metadata['render_modes']}"
+                " (opencv-python-headless opens no window; show the 'rgb_array' frames yourself)"
+            )
         if not isinstance(max_cycles, int) or max_cycles < 1:
             raise MatchConfigError(f"max_cycles {max_cycles!r}; expected an integer >= 1")
+        self._settings = {
+            "home_players": home_players,
+            "away_players": away_players,
+            "half_seconds": half_seconds,
+            "max_cycles": max_cycles,
+            "render_mode": render_mode,
+            "privileged": privileged,
+            "config": config,
+        }
         config = config or MatchConfig()
         config = replace(config, home_players=home_players, away_players=away_players)
         if half_seconds is not None:
@@ -58,10 +86,23 @@ class RobotStadiumEnv(ParallelEnv):
         self.render_mode = render_mode
         self.privileged = privileged
         self.num_cycles = 0
+        self.state_space = state_space(self.possible_agents)
         self._observation_spaces = {a: observation_space() for a in self.possible_agents}
         self._action_spaces = {a: action_space() for a in self.possible_agents}
+        for i, agent in enumerate(self.possible_agents):
+            self._action_spaces[agent].seed(ACTION_SPACE_SEED + i)
         self._seeds: np.random.SeedSequence | None = None
-        self._window = None
+        self._closed = False
+
+    # ---- copies -----------------------------------------------------------------------
+
+    def __getstate__(self) -> dict:
+        """The settings and the seed sequence: a copy builds its own world (see the class docstring)."""
+        return {"settings": self._settings, "seeds": self._seeds}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__init__(**state["settings"])
+        self._seeds = state["seeds"]
 
     # ---- spaces -----------------------------------------------------------------------
 
@@ -79,7 +120,9 @@ class RobotStadiumEnv(ParallelEnv):
     # ---- life cycle -------------------------------------------------------------------
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        """Start a new match. ``seed`` None: the next seed of the sequence of the last seed given."""
+        """Start a new match. ``seed`` None: the next seed of the sequence of the last seed given.
+        Raises :class:`EnvClosedError` after :meth:`close`."""
+        self._open("reset()")
         if seed is not None:
             self._seeds = np.random.SeedSequence(seed)
             match_seed = int(seed)
@@ -88,8 +131,6 @@ class RobotStadiumEnv(ParallelEnv):
                 self._seeds = np.random.SeedSequence()
             self._seeds = self._seeds.spawn(1)[0]
             match_seed = int(self._seeds.generate_state(1)[0])
-        for i, agent in enumerate(self.possible_agents):
-            self._action_spaces[agent].seed(match_seed + i)
         observations = self.match.reset(match_seed)
         self.agents = list(self.possible_agents)
         self.num_cycles = 0
@@ -97,7 +138,9 @@ class RobotStadiumEnv(ParallelEnv):
 
     def step(self, actions: dict):
         """One control step for the live agents. A :class:`StepRefusedError` (actions not a dict of
-        agent id -> valid action, no live agent: before reset or after the end) changes nothing."""
+        agent id -> valid action, no live agent: before reset, after the end or after close) changes nothing."""
+        if self._closed:
+            raise StepRefusedError("the env is closed; build a new one")
         if not self.agents:
             raise StepRefusedError("no live agents (the episode has not started or is over); call reset() first")
         result = self.match.step(actions)  # the live agents are all the match's agents: it checks the actions
@@ -112,9 +155,15 @@ class RobotStadiumEnv(ParallelEnv):
         infos = self._infos(result.events)
         if finished or truncated:
             self.agents = []
-        if self.render_mode == "human":
-            self.render()
         return observations, rewards, terminations, truncations, {a: infos[a] for a in live}
+
+    def state(self) -> np.ndarray:
+        """The global state now: a float32 vector in :attr:`state_space` (layout in :mod:`match.env_state`).
+
+        Ground truth of the whole match, not an agent's observation. Before the first ``reset``
+        it describes the world as built (game state INITIAL)."""
+        self._open("state()")
+        return global_state(self.match, self.possible_agents, self.state_space)
 
     def _infos(self, events=()) -> dict[str, dict]:
         if not self.privileged:
@@ -122,33 +171,35 @@ class RobotStadiumEnv(ParallelEnv):
         truth = self.match.truth()
         game = [e.to_json() for e in events]
         return {
-            a: {"true_pose": truth["robots"][a]["pose"], "fallen": truth["robots"][a]["fallen"], "ball": truth["ball"], "events": game}
+            a: {
+                "true_pose": truth["robots"][a]["pose"],
+                "fallen": truth["robots"][a]["fallen"],
+                "ball": truth["ball"],
+                "events": game,
+            }
             for a in self.possible_agents
         }
+
+    def _open(self, what: str) -> None:
+        if self._closed:
+            raise EnvClosedError(f"{what} of a closed env; build a new one")
 
     # ---- rendering --------------------------------------------------------------------
 
     def render(self) -> np.ndarray | None:
-        """A broadcast view of the field with the score and clock (rgb_array), or a window (human)."""
+        """A broadcast view of the field with the score and clock (``rgb_array``); None without a render_mode."""
         if self.render_mode is None:
-            log.warning("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
+            log.warning("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
-        frame = broadcast_frame(self.match)
-        if self.render_mode == "rgb_array":
-            return frame
-        if not os.environ.get("DISPLAY") and os.name != "nt":
-            log.warning("render_mode 'human' needs a display; none found, rendering as 'rgb_array' from now on")
-            self.render_mode = "rgb_array"
-            return None
-        try:
-            cv2.imshow("robotstadium", cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
-            cv2.waitKey(1)
-        except cv2.error as error:  # opencv-python-headless has no GUI
-            log.warning("cannot open a window (%s); use render_mode='rgb_array'", error)
-            self.render_mode = "rgb_array"
-        return None
+        self._open("render()")
+        return broadcast_frame(self.match)
 
     def close(self) -> None:
+        """Free the physics world; a second call does nothing. Afterwards only copies and spaces work."""
+        if self._closed:
+            return
+        self._closed = True
+        self.agents = []
         self.match.close()
 
 
@@ -170,3 +221,13 @@ def broadcast_frame(match: Match) -> np.ndarray:
 def parallel_env(**kwargs) -> RobotStadiumEnv:
     """The PettingZoo parallel environment (see :class:`RobotStadiumEnv` for the options)."""
     return RobotStadiumEnv(**kwargs)
+
+
+def raw_env(**kwargs) -> AECEnv:
+    """The match as a PettingZoo AEC env, without PettingZoo's order-enforcing wrapper."""
+    return parallel_to_aec_wrapper(RobotStadiumEnv(**kwargs))
+
+
+def env(**kwargs) -> AECEnv:
+    """The match as a PettingZoo AEC env (:func:`raw_env` in PettingZoo's order-enforcing wrapper)."""
+    return parallel_to_aec(RobotStadiumEnv(**kwargs))

@@ -4,10 +4,11 @@ Every refusal of a step (:meth:`match.game.Match.step`, :meth:`match.env.RobotSt
 is a :class:`StepRefusedError`, raised before anything of the step happens::
 
     MatchError
-    └── StepRefusedError (also ValueError): actions not a dict, step before reset or after the end
-        ├── UnknownAgentError (also LookupError): an agent id not in the match
-        └── InvalidActionError: one field of one agent's action
-            └── RadioPacketError: a radio packet that is not bytes of at most 128
+    ├── StepRefusedError (also ValueError): actions not a dict, step before reset, after the end or after close
+    │   ├── UnknownAgentError (also LookupError): an agent id not in the match
+    │   └── InvalidActionError: one field of one agent's action
+    │       └── RadioPacketError: a radio packet that is not bytes of at most 128
+    └── EnvClosedError (also RuntimeError): reset, state or render of a closed env
 """
 
 from __future__ import annotations
@@ -75,6 +76,10 @@ class InvalidActionError(StepRefusedError):
 
 class RadioPacketError(InvalidActionError):
     """A radio packet that does not fit the packet space (wrong type or over 128 bytes)."""
+
+
+class EnvClosedError(MatchError, RuntimeError):
+    """A use of a closed :class:`~match.env.RobotStadiumEnv` (reset, state, render); build a new one."""
 
 
 class MatchConfigError(MatchError, ValueError):
