@@ -37,7 +37,6 @@ above. Reports that fail their checks are not faults: the log records nothing fo
 from __future__ import annotations
 
 import logging
-import math
 import multiprocessing
 import os
 import signal
@@ -51,7 +50,7 @@ from typing import Any, Protocol
 from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, check_pose
-from match.reports import ReportReader, read_reports
+from match.reports import ReportReader
 
 log = logging.getLogger(__name__)
 
@@ -446,14 +445,13 @@ def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
                 except BaseException as error:  # noqa: B036
                     fault = PolicyFault.of(agent, error)
                     faults.append((agent, fault.error, fault.where))
-            estimates, reports = read_reports(reader)
-            conn.send(("reset", estimates, reports, faults))
+            conn.send(("reset", reader.estimates(), reader.reports(), faults))
             continue
         _, sequence, observations = message
         actions, faults = _act_all(policies, observations)
         faults += [PolicyFault(a, broken[a]) for a in broken if a in observations]
-        estimates, reports = read_reports(reader)
-        conn.send(("act", sequence, actions, estimates, reports, [(f.agent, f.error, f.where) for f in faults]))
+        faults_sent = [(f.agent, f.error, f.where) for f in faults]
+        conn.send(("act", sequence, actions, reader.estimates(), reader.reports(), faults_sent))
 
 
 def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[str, Any]]
@@ -500,4 +498,4 @@ def _resident_mb(pid: int) -> float | None:
             pages = int(statm.read().split()[1])
     except (OSError, ValueError, IndexError):
         return None
-    return pages * PAGE_BYTES / 2**20 if math.isfinite(pages) else None
+    return pages * PAGE_BYTES / 2**20

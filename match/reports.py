@@ -65,7 +65,3 @@ def _report_of(policy: Policy) -> Callable[[], AgentReport | None] | None:
         return None
     return lambda: AgentReport.check(policy.report())
 
-
-def read_reports(reader: ReportReader) -> tuple[dict[str, PoseTuple | None], dict[str, AgentReport | None]]:
-    """Every robot's pose estimate and agent report, read now."""
-    return reader.estimates(), reader.reports()
