@@ -229,6 +229,22 @@ def test_the_striker_level_with_the_ball_walks_on_behind_it() -> None:
         skills.behind_point(ball, goal))
 
 
+def test_a_near_ball_with_the_aim_behind_is_orbited_without_stepping_in_first() -> None:
+    """Just beyond kicking distance with the goal behind it, the striker orbits the ball at once:
+    walking in first and orbiting once there made it alternate between the two every step, which
+    halved its turn (found near the side line, 6 s for half a turn)."""
+    from agents.behavior import skills
+
+    for distance in (skills.KICK_DISTANCE_M + 0.01, skills.ORBIT_WITHIN_M - 0.01):
+        ball = BallEstimate(distance, 0.02, 0.0, 0.0, 0.05, 0.0)
+        for error in (math.radians(120.0), -math.radians(120.0)):
+            motion, (vx, vy, omega) = skills.chase(ball, error, foot_first=True)
+            assert motion is Motion.WALK and math.copysign(1.0, omega) == math.copysign(1.0, error), (distance, error)
+            assert vy * omega < 0.0  # side-steps round the ball, facing it
+    far = BallEstimate(skills.ORBIT_WITHIN_M + 0.05, 0.0, 0.0, 0.0, 0.05, 0.0)
+    assert skills.chase(far, math.radians(120.0))[1] == skills.approach(far)  # farther: walk in first
+
+
 def _to_robot(pose: Pose2D, xy: tuple[float, float]) -> tuple[float, float]:
     dx, dy = xy[0] - pose.x, xy[1] - pose.y
     c, s = math.cos(pose.theta), math.sin(pose.theta)

@@ -68,9 +68,9 @@ TOP_CAMERA_BEYOND_M = 0.8  # hysteresis
 TURN_IN_PLACE_RAD = 0.35
 TURN_GAIN_PER_S = 2.0  # omega = gain * bearing
 MIN_TURN_RADPS = 0.4
-APPROACH_GAIN_PER_S = 0.6  # vx = gain * (distance - APPROACH_STOP_M)
+APPROACH_GAIN_PER_S = 1.2  # vx = gain * (distance - APPROACH_STOP_M)
 APPROACH_STOP_M = 0.12
-MIN_APPROACH_MPS = 0.05
+MIN_APPROACH_MPS = 0.08
 ALIGN_WITHIN_M = 0.4  # nearer than this, side-step to put the ball in front of a foot
 ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
 FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
@@ -82,6 +82,7 @@ SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than th
 PUSH_MPS = 0.2  # dribbling: the walk's top forward speed
 ORBIT_RADPS = 0.5
 ORBIT_DISTANCE_M = 0.15
+ORBIT_WITHIN_M = 0.3  # a ball this near but the aim off: orbit at once (approaching first would chatter)
 ORBIT_DISTANCE_GAIN_PER_S = 0.5
 
 # Goalkeeper.
@@ -168,6 +169,8 @@ def chase(
     """
     if abs(ball.bearing_rad) > TURN_IN_PLACE_RAD:
         return Motion.WALK, turn_toward(ball.bearing_rad)
+    if abs(heading_error_rad) > KICK_HEADING_TOLERANCE_RAD and ball.distance_m < ORBIT_WITHIN_M:
+        return Motion.WALK, orbit(ball, heading_error_rad)
     if ball.distance_m >= KICK_DISTANCE_M:
         return Motion.WALK, approach(ball)
     if foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]:
