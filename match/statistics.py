@@ -28,7 +28,9 @@ shoot-out's kicks count for nothing here):
   the team's inboxes): over the whole match, from the runner's per-team radio counts;
 - ``position_error_mean_m``, ``position_error_p95_m``, ``orientation_error_mean_deg``,
   ``orientation_error_p95_deg``: over every control step of playing time and every robot
-  of the team whose policy reported a pose estimate (None when none did);
+  of the team whose policy reported a pose estimate (None when none did), while the robot
+  was up (a lying robot's torso gives it no heading, and the point under it is not where it
+  stands: its steps from the fall until it stood again do not count);
   ``pose_estimates`` counts those robot-steps; ``lost_share``: the share of them more than
   :data:`LOST_M` off; the same with a ``field_`` prefix over the field players alone (every
   robot but the goalkeeper, player 0);
@@ -307,16 +309,19 @@ def _pose_errors(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -
     agents = [str(a) for a in np.asarray(log["agents"])]
     truth = np.asarray(log["robots"], dtype=float)[rows]
     estimates = np.asarray(log["estimates"], dtype=float)[rows]
+    up = ~np.asarray(log["fallen"], dtype=bool)[rows]
     for side in SIDES:
         columns = [i for i, agent in enumerate(agents) if side_of(agent) == side]
         field = [i for i in columns if not AgentId.parse(agents[i]).is_goalkeeper]
         for prefix, chosen in (("", columns), ("field_", field)):
-            _estimate_errors(teams[side], prefix, truth[:, chosen].reshape(-1, 3), estimates[:, chosen].reshape(-1, 3))
+            _estimate_errors(teams[side], prefix, truth[:, chosen].reshape(-1, 3), estimates[:, chosen].reshape(-1, 3),
+                             up[:, chosen].reshape(-1))
 
 
-def _estimate_errors(team: dict, prefix: str, true: np.ndarray, est: np.ndarray) -> None:
-    """Means, 95th percentiles and the lost share of (N, 3) estimates against the truth, into ``team``."""
-    known = np.isfinite(est).all(axis=1)
+def _estimate_errors(team: dict, prefix: str, true: np.ndarray, est: np.ndarray, up: np.ndarray) -> None:
+    """Means, 95th percentiles and the lost share of (N, 3) estimates against the truth, into ``team``,
+    over the rows where the robot was ``up`` (N,) bool."""
+    known = np.isfinite(est).all(axis=1) & up
     true, est = true[known], est[known]
     position = np.hypot(est[:, 0] - true[:, 0], est[:, 1] - true[:, 1])
     turn = np.angle(np.exp(1j * (est[:, 2] - true[:, 2])))  # wrapped to [-pi, pi]

@@ -144,6 +144,16 @@ def test_pose_errors_while_playing_only(statistics: dict) -> None:
     assert away["orientation_error_p95_deg"] is None
 
 
+def test_pose_errors_leave_out_the_steps_a_robot_lies() -> None:
+    """The row 1 m off is one where home_0 lay fallen: it is not counted, the rest are."""
+    log = hand_built_log()
+    log["fallen"][11, 0] = True
+    home = match_statistics(EVENTS, log, SUMMARY)["home"]
+    assert home["pose_estimates"] == 8
+    assert home["position_error_mean_m"] == pytest.approx(0.5, abs=1e-4)
+    assert home["lost_share"] == 0.0
+
+
 def test_a_summary_without_per_team_radio_gives_none() -> None:
     result = match_statistics(EVENTS, hand_built_log(), {"faults": {}, "radio": {"sent": 3}})
     assert result["home"]["radio_sent"] is None and result["home"]["faults"] == 0

@@ -223,7 +223,7 @@ def table_markdown(report: TournamentReport) -> str:
     lines += ["", "## How to read it", ""]
     lines += [f"- {name.replace('_', ' ')}: {text}." for name, text in DEFINITIONS.items()]
     lines += ["- match statistics: see `match/statistics.py` (possession is a share of playing time; pose errors "
-              "only where the policy reports an estimate)."]
+              "only where the policy reports an estimate, while the robot is up)."]
     return "\n".join(lines) + "\n"
 
 
