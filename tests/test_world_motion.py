@@ -152,6 +152,23 @@ def test_fall_and_stand_up(world):
     assert world.command_motion("a", Motion.FORWARD)
 
 
+@pytest.mark.parametrize("push_mps", [1.8, -1.8], ids=["falls forward", "falls backward"])
+def test_after_standing_up_it_faces_the_way_it_faced_before_the_fall(world, push_mps):
+    """A robot facing +x pushed forward lands on its front, pushed backward on its back; either way it
+    stands up facing about +x again (it pushes itself up over its hands, or sits up toward its feet),
+    never turned round."""
+    world.place_robot("a", Pose2D(0.0, 0.0, 0.0))
+    world.step(3)
+    pb.resetBaseVelocity(world.body_id("a"), (push_mps, 0.0, 0.0), (0.0, 0.0, 0.0), physicsClientId=world.client)
+    world.step(50)
+    sensors = world.sensors("a")
+    assert sensors.fallen and sensors.motion.fall_side.value == ("front" if push_mps > 0 else "back")
+    right = Motion.STAND_UP_FROM_FRONT if push_mps > 0 else Motion.STAND_UP_FROM_BACK
+    _play(world, "a", right, extra_steps=25)
+    truth = world.robot_truth("a")
+    assert not truth.fallen and abs(math.remainder(truth.pose.theta, math.tau)) < math.radians(45)
+
+
 def test_kick_moves_ball(world):
     world.place_robot("a", Pose2D(0.0, 0.0, 0.0))
     world.place_robot("b", Pose2D(-2.0, 2.0, 0.0))

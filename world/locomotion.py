@@ -327,7 +327,7 @@ class LocomotionController:
         (x0, y0, z0), q0 = active.stand_up_from
         s = min(1.0, (now_s - active.start_time_s) / (active.duration_s * self.config.stand_up_rise_fraction))
         m = pb.getMatrixFromQuaternion(q0)
-        heading = torso_heading(m) if abs(m[6]) < 0.9 else math.atan2(m[5], m[2])  # lying: use torso z
+        heading = torso_heading(m) if abs(m[6]) < 0.9 else _lying_heading(m)
         q1 = pb.getQuaternionFromEuler((0.0, 0.0, heading))
         q = _slerp(q0, q1, s)
         z = z0 + (TORSO_CENTER_HEIGHT_M + 0.005 - z0) * s
@@ -361,6 +361,14 @@ class LocomotionController:
 HEAD_SPEED_RADPS = math.radians(240.0)
 JOINT_POSITION_GAIN = 1.0
 _ACTUATED_INDICES = [int(j) for j in ACTUATED_JOINTS]
+
+
+def _lying_heading(m: tuple[float, ...]) -> float:
+    """Field heading (rad) a lying robot faces once up: on its front, toward its head (it pushes
+    itself up over its hands); on its back, toward its feet (it sits up, then rises)."""
+    toward_head = math.atan2(m[5], m[2])  # the torso's z axis, along the ground
+    on_back = m[6] > 0.0  # the torso's x axis (its front) points up
+    return math.remainder(toward_head + math.pi, math.tau) if on_back else toward_head
 
 
 def torso_heading(m: tuple[float, ...]) -> float:
