@@ -62,6 +62,9 @@ def test_unknown_option_is_a_typed_error():
         localizer("particle", particles=0)
     with pytest.raises(LocalizationConfigError, match="orientation"):
         localizer("thesis", orientation="median")
+    for option, bad in (("inject_min_percepts", 0), ("inject_min_percepts", True), ("inject_below_likelihood", 1.5)):
+        with pytest.raises(LocalizationConfigError, match=option):
+            localizer("particle", **{option: bad})
 
 
 @pytest.mark.parametrize("name", METHODS)

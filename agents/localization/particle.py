@@ -13,7 +13,10 @@
   up to ``max_injection`` of the particles are replaced by poses drawn from the scan itself
   (a landmark of a percept's kind, a point at the measured distance around it, the
   heading its bearing implies), kept in proportion to their likelihood of the whole scan.
-  This recovers from kidnapping and from a start without a known pose.
+  This recovers from kidnapping and from a start without a known pose. A scan of fewer than
+  ``inject_min_percepts`` landmarks injects nothing unless it fits the cloud worse than
+  ``inject_below_likelihood`` per percept (or the cloud is lost): one or two landmarks seen
+  from a moving robot fit many poses, and particles drawn from them seed false clusters.
 - Estimate: the weighted mean of the particles near one of the most likely few -- the one
   with the most weight around it, so a few particles in the field's mirror-image pose
   (a scan without goal colours fits both) do not win by chance -- polished by
@@ -89,6 +92,10 @@ class ParticleConfig:
     # A sample drawn from the percepts replaces the cloud's estimate (a kidnapping) only when
     # they hold at least this many landmarks: one or two seen from a moving robot fit many poses.
     jump_min_percepts: int = 1
+    # Particles are drawn from a scan of fewer landmarks than this only when it fits the cloud
+    # worse than inject_below_likelihood per percept (the module docstring).
+    inject_min_percepts: int = 1
+    inject_below_likelihood: float = 1.0
     cluster_radius_m: float = 0.5  # the estimate averages particles this close to the most likely one
     cluster_angle_rad: float = 0.5
     refine: bool = True
@@ -96,12 +103,14 @@ class ParticleConfig:
     def __post_init__(self) -> None:
         if not (isinstance(self.particles, int) and not isinstance(self.particles, bool) and self.particles >= 1):
             raise LocalizationConfigError(f"particles must be an int >= 1; got {self.particles!r}")
-        for name in ("max_injection", "alpha_slow", "alpha_fast", "lost_likelihood"):
+        for name in ("max_injection", "alpha_slow", "alpha_fast", "lost_likelihood", "inject_below_likelihood"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
                 raise LocalizationConfigError(f"{name} must be within [0, 1]; got {value!r}")
-        if not (isinstance(self.jump_min_percepts, int) and self.jump_min_percepts >= 1):
-            raise LocalizationConfigError(f"jump_min_percepts must be an int >= 1; got {self.jump_min_percepts!r}")
+        for name in ("jump_min_percepts", "inject_min_percepts"):
+            value = getattr(self, name)
+            if not (isinstance(value, int) and not isinstance(value, bool) and value >= 1):
+                raise LocalizationConfigError(f"{name} must be an int >= 1; got {value!r}")
         if not (isinstance(self.injection_oversampling, int) and self.injection_oversampling >= 1):
             raise LocalizationConfigError(f"injection_oversampling must be an int >= 1; got {self.injection_oversampling!r}")
 
@@ -305,7 +314,8 @@ class ParticleLocalizer:
             and float(scan.log_likelihood(extra[:, 0], extra[:, 1], extra[:, 2]).max()) > float(ll.max()) + KIDNAP_MARGIN
         ):
             fraction = max(fraction, cfg.max_injection)
-        n_inject = round(fraction * n)
+        informative = lost or len(scan) >= cfg.inject_min_percepts or per_percept < cfg.inject_below_likelihood
+        n_inject = round(fraction * n) if informative else 0
         ix, iy, ith, ill = self._sample_from_scan(scan, n_inject, extra) if n_inject else (np.zeros(0),) * 4
 
         best = int(np.argmax(ll))

@@ -33,9 +33,12 @@ from agents.vision.percepts import LandmarkPercept
 from match.protocol import Displacement, Pose2D
 
 # The particle filters' settings for updates every frame rather than every scan (a few
-# seconds apart): slower likelihood averages, fewer injected particles, and no jump to a
-# pose that only one or two landmarks support.
-_PER_FRAME = {"alpha_slow": 0.01, "alpha_fast": 0.1, "max_injection": 0.1, "jump_min_percepts": 3}
+# seconds apart): slower likelihood averages, fewer injected particles, no jump to a pose
+# that only one or two landmarks support, and no particles drawn from such a frame unless it
+# contradicts the cloud (replaying the self-locator's inputs recorded in two self-play matches,
+# this cut the field players' time over 0.5 m off from 4.5% to 2.6%).
+_PER_FRAME = {"alpha_slow": 0.01, "alpha_fast": 0.1, "max_injection": 0.1, "jump_min_percepts": 3,
+              "inject_min_percepts": 3, "inject_below_likelihood": 0.1}
 PLAYING_OPTIONS: dict[str, dict[str, object]] = {"particle": _PER_FRAME, "hybrid": _PER_FRAME}
 FLUSH_TRAVEL_M = 0.25
 FLUSH_TURN_RAD = math.radians(20.0)
