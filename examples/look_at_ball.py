@@ -1,11 +1,12 @@
 """Train a small policy to look at the ball: PPO (Stable-Baselines3) through SuperSuit's vector env.
 
-The task: one robot (``home_0``) stands on the field with the ball somewhere around it (a seeded
-random spot 1.0-2.8 m away, up to 100 degrees to either side of its heading) and must turn its head
-to look at it; the other robot (``away_0``) stands with its camera off. The learner sees its
-percepts (:class:`agents.learning.PerceptObservations`: the ball's bearing and distance when its
-camera shows it, the landmarks, its head angles) and picks one of 15 head yaws, -105 to 105 degrees
-in steps of 15, at 15 degrees pitch, top camera (:class:`match.wrappers.DiscreteActions`). Each
+The task: one robot (``home_0``) stands on the field with the ball to its left (a seeded random
+spot 1.0-2.8 m away, 30-100 degrees left of its heading: out of view while it looks ahead) and must
+turn its head to find it and keep looking at it (the side is fixed: a policy without memory cannot
+search both sides, it would turn back and forth); the other robot (``away_0``) stands with its camera off. The learner sees the head
+and ball entries of its percepts (:class:`agents.learning.PerceptObservations`: its head angles,
+and the ball's bearing and distance when its camera shows it) and picks one of 7 head yaws, -90
+to 90 degrees in steps of 30, at 15 degrees pitch, top camera (:class:`match.wrappers.DiscreteActions`). Each
 40 ms step it is rewarded with the cosine of the angle between its camera's optical axis and the
 direction to the ball (1 when the ball is in the middle of its image), from the ground truth; an
 episode is 60 steps (2.4 s), so a return is at most 60.
@@ -36,7 +37,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
-from agents.learning import PerceptObservations
+from agents.learning import PERCEPT_LABELS, PerceptObservations
 from match import parallel_env
 from match.free_play import FreePlay
 from match.game import MatchConfig
@@ -52,9 +53,10 @@ LEARNER = "home_0"
 STANDER = "away_0"
 STARTS = ((LEARNER, Pose2D(-1.0, 0.0, 0.0)), (STANDER, Pose2D(1.5, 1.2, math.pi)))
 HEAD_PITCH_RAD = math.radians(15.0)
-HEAD_YAWS_RAD = tuple(math.radians(yaw) for yaw in range(-105, 106, 15))
+HEAD_YAWS_RAD = tuple(math.radians(yaw) for yaw in range(-90, 91, 30))  # 7 targets; the image spans 46 degrees
 BALL_DISTANCE_M = (1.0, 2.8)
-BALL_BEARING_RAD = math.radians(100.0)
+BALL_BEARING_RAD = (math.radians(30.0), math.radians(100.0))  # to the left (CCW): out of view straight ahead
+BALL_AREA_M = (3.4, 2.4)  # the ball is placed within |x|, |y| below these (the carpet)
 STAND_STILL = make_action(Motion.STAND, camera=CameraChoice.OFF)
 EVAL_SEED = 10_000  # evaluation episodes use seeds from here on, never seen in training
 CURVE_WINDOW = 20  # training episodes per point of the smoothed curve
@@ -94,11 +96,15 @@ class LookAtBall(BaseParallelWrapper):
         if seed is not None or self._rng is None:
             self._rng = np.random.default_rng(seed)
         world = self.env.unwrapped.match.world
-        x, y, theta = self._rng.uniform(-2.0, 2.0), self._rng.uniform(-1.2, 1.2), self._rng.uniform(-math.pi, math.pi)
+        while True:  # until the ball lies on the carpet
+            x, y, theta = self._rng.uniform(-2.0, 2.0), self._rng.uniform(-1.2, 1.2), self._rng.uniform(-math.pi, math.pi)
+            distance = self._rng.uniform(*BALL_DISTANCE_M)
+            bearing = theta + self._rng.uniform(*BALL_BEARING_RAD)
+            ball_x, ball_y = x + distance * math.cos(bearing), y + distance * math.sin(bearing)
+            if abs(ball_x) < BALL_AREA_M[0] and abs(ball_y) < BALL_AREA_M[1]:
+                break
         world.place_robot(LEARNER, Pose2D(x, y, theta))
-        distance = self._rng.uniform(*BALL_DISTANCE_M)
-        bearing = theta + self._rng.uniform(-BALL_BEARING_RAD, BALL_BEARING_RAD)
-        world.place_ball(x + distance * math.cos(bearing), y + distance * math.sin(bearing))
+        world.place_ball(ball_x, ball_y)
         settle = {agent: STAND_STILL for agent in self.env.agents}
         settle[LEARNER] = make_action(head=(0.0, HEAD_PITCH_RAD), camera=CameraChoice.TOP)
         observations, _, _, _, infos = self.env.step(settle)  # the first observation after placing
@@ -117,6 +123,30 @@ class LookAtBall(BaseParallelWrapper):
         ball = world.ball()
         direction = np.array([ball.x, ball.y, ball.z]) - position
         return float(rotation[:, 2] @ direction / np.linalg.norm(direction))
+
+
+SEEN = tuple(PERCEPT_LABELS.index(label) for label in
+             ("head_yaw", "head_pitch", "ball/seen", "ball/bearing", "ball/distance"))
+
+
+class HeadAndBall(BaseParallelWrapper):
+    """Keeps the head and ball entries of the percept vector (:data:`SEEN`), the ones the task needs."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        full = env.observation_space(env.possible_agents[0])
+        self._space = spaces.Box(full.low[list(SEEN)], full.high[list(SEEN)], dtype=np.float32)
+
+    def observation_space(self, agent: str) -> spaces.Box:
+        return self._space
+
+    def reset(self, seed: int | None = None, options: dict | None = None):
+        observations, infos = self.env.reset(seed=seed, options=options)
+        return {a: o[list(SEEN)] for a, o in observations.items()}, infos
+
+    def step(self, actions: dict):
+        observations, *rest = self.env.step(actions)
+        return ({a: o[list(SEEN)] for a, o in observations.items()}, *rest)
 
 
 class OnlyLearner(BaseParallelWrapper):
@@ -142,11 +172,12 @@ class OnlyLearner(BaseParallelWrapper):
 
 
 def task_env(episode_steps: int):
-    """The learner's view of the task: percepts in, one of 15 head yaws out (a PettingZoo parallel env)."""
+    """The learner's view of the task: head and ball percepts in, one of 7 head yaws out (a PettingZoo
+    parallel env)."""
     env = parallel_env(config=MatchConfig(free_play=FreePlay(STARTS, settle_steps=2)), max_cycles=episode_steps + 1)
     heads = tuple((yaw, HEAD_PITCH_RAD) for yaw in HEAD_YAWS_RAD)
     looks = ActionSet(motions=((Motion.STAND, (0.0, 0.0, 0.0)),), heads=heads, cameras=(CameraChoice.TOP,))
-    return DiscreteActions(PerceptObservations(OnlyLearner(LookAtBall(env))), looks, flat=True)
+    return DiscreteActions(HeadAndBall(PerceptObservations(OnlyLearner(LookAtBall(env)))), looks, flat=True)
 
 
 # ---- evaluation, training, figure ------------------------------------------------------------
@@ -212,8 +243,8 @@ def train(settings: Settings) -> tuple[object, list[tuple[int, float]], float]:
         warnings.filterwarnings("ignore", message="The `render_mode` attribute is not defined")
         vector = VecMonitor(SB3VecEnvWrapper(vector))
     set_random_seed(settings.seed)
-    n_steps = max(32, min(256, settings.timesteps // settings.envs))
-    model = PPO("MlpPolicy", vector, n_steps=n_steps, batch_size=min(128, n_steps * settings.envs), n_epochs=6,
+    n_steps = max(32, min(64, settings.timesteps // settings.envs))
+    model = PPO("MlpPolicy", vector, n_steps=n_steps, batch_size=min(64, n_steps * settings.envs), n_epochs=10,
                 learning_rate=1e-3, gamma=0.9, ent_coef=0.01, policy_kwargs={"net_arch": [64, 64]},
                 device="cpu", verbose=0)
     episodes = Episodes()
@@ -247,7 +278,7 @@ def plot(path: Path, returns: list[tuple[int, float]], random_mean: float, learn
     ax.axhline(learned_mean, color="tab:green", label=f"trained policy, deterministic ({learned_mean:.1f})")
     ax.set_xlabel("timesteps (learner steps, 40 ms each)")
     ax.set_ylabel(f"episode return (max {episode_steps})")
-    ax.set_title("PPO learning to look at the ball (home_0, percepts, 15 head yaws)")
+    ax.set_title("PPO learning to look at the ball (home_0, percepts, 7 head yaws)")
     ax.legend(loc="lower right", fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -264,7 +295,7 @@ def run(settings: Settings, out: Path) -> dict:
     learned_returns = evaluate(lambda obs, env: int(model.predict(obs, deterministic=True)[0]),
                                settings.eval_episodes, settings.episode_steps)
     results = {
-        "task": "look at the ball: home_0 picks one of 15 head yaws; reward cos(optical axis, ball direction)",
+        "task": "look at the ball: home_0 picks one of 7 head yaws; reward cos(optical axis, ball direction)",
         "random_mean_return": float(np.mean(random_returns)),
         "random_std_return": float(np.std(random_returns)),
         "learned_mean_return": float(np.mean(learned_returns)),

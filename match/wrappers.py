@@ -138,8 +138,7 @@ def flat_layout(space: spaces.Dict, radio: bool = False) -> FlatLayout:
         name = "/".join(path)
         paths.append(path)
         sizes.append(low.size)
-        labels.extend([name] if low.size == 1 and not isinstance(sub, spaces.Box) or sub.shape == ()
-                      else [f"{name}/{i}" for i in range(low.size)])
+        labels.extend([name] if sub.shape == () else [f"{name}/{i}" for i in range(low.size)])
         lows.append(low.astype(np.float64))
         highs.append(high.astype(np.float64))
 

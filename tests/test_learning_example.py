@@ -44,8 +44,9 @@ def test_the_task_rewards_looking_at_the_ball():
     env = example.task_env(episode_steps=80)
     try:
         env.reset(seed=3)
-        look = env.env.env.env  # DiscreteActions -> PerceptObservations -> OnlyLearner -> LookAtBall
-        assert isinstance(look, example.LookAtBall)
+        look = env
+        while not isinstance(look, example.LookAtBall):  # the task wrapper, under the learner's views
+            look = look.env
         world = look.unwrapped.match.world
         pose, ball = world.robot_pose(example.LEARNER), world.ball()
         bearing = math.remainder(math.atan2(ball.y - pose.y, ball.x - pose.x) - pose.theta, math.tau)
@@ -58,7 +59,7 @@ def test_the_task_rewards_looking_at_the_ball():
             rewards[choice] = reward[example.LEARNER]
         assert rewards[best] > 0.9 and rewards[worst] < rewards[best] - 0.3
         observations, *_ = env.step({example.LEARNER: best})
-        assert observations[example.LEARNER][3] == 1.0  # the ball is seen
+        assert observations[example.LEARNER][2] == 1.0  # the ball is seen (head yaw, pitch, ball seen, ...)
         with pytest.raises(Exception, match="'action'"):
             env.step({example.LEARNER: len(example.HEAD_YAWS_RAD)})
     finally:
