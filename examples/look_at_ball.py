@@ -1,15 +1,16 @@
 """Train a small policy to look at the ball: PPO (Stable-Baselines3) through SuperSuit's vector env.
 
 The task: one robot (``home_0``) stands on the field with the ball to its left (a seeded random
-spot 1.0-2.8 m away, 30-100 degrees left of its heading: out of view while it looks ahead) and must
-turn its head to find it and keep looking at it (the side is fixed: a policy without memory cannot
-search both sides, it would turn back and forth); the other robot (``away_0``) stands with its camera off. The learner sees the head
-and ball entries of its percepts (:class:`agents.learning.PerceptObservations`: its head angles,
-and the ball's bearing and distance when its camera shows it) and picks one of 7 head yaws, -90
-to 90 degrees in steps of 30, at 15 degrees pitch, top camera (:class:`match.wrappers.DiscreteActions`). Each
-40 ms step it is rewarded with the cosine of the angle between its camera's optical axis and the
-direction to the ball (1 when the ball is in the middle of its image), from the ground truth; an
-episode is 60 steps (2.4 s), so a return is at most 60.
+spot 1.0-2.8 m away, 30-100 degrees left of its heading: out of view while it looks ahead) and
+must turn its head to find it and keep looking at it; the other robot (``away_0``) stands with
+its camera off. The side is fixed: a policy without memory cannot search both sides (it would
+turn back and forth). The learner sees the head and ball entries of its percepts
+(:class:`agents.learning.PerceptObservations`: its head angles, and the ball's bearing and
+distance when its camera shows it) and picks one of 7 head yaws, -90 to 90 degrees in steps of
+30, at 15 degrees pitch, top camera (:class:`match.wrappers.DiscreteActions`). Each 40 ms step
+it is rewarded with the cosine of the angle between its camera's optical axis and the direction
+to the ball (1 when the ball is in the middle of its image), from the ground truth; an episode
+is 60 steps (2.4 s), so a return is at most 60.
 
 It writes into ``--out``: ``learning_curve.png`` (the training episodes' returns against the
 timesteps, with the random policy's and the trained policy's mean returns) and ``results.json``
@@ -18,7 +19,7 @@ timesteps, with the random policy's and the trained policy's mean returns) and `
     python examples/look_at_ball.py --timesteps 40000 --out out/look_at_ball
 
 Needs the ``learn`` extra (Stable-Baselines3, the CPU build of torch, SuperSuit):
-``pip install -e '.[learn]'``. ``tests/test_learning_example.py`` runs it for a few hundred steps.
+``pip install -e '.[learn]'``. ``tests/test_learning_example.py`` runs it for 128 steps.
 """
 
 from __future__ import annotations
