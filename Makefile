@@ -10,7 +10,7 @@ install: $(STAMP)
 $(STAMP): pyproject.toml Makefile
 	test -x $(PY) || python3 -m venv $(VENV)
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e '.[test,ray,browser]'
+	$(PY) -m pip install -e '.[test,ray,browser,learn]'
 	touch $@
 
 test: install

@@ -183,16 +183,68 @@ bad_camera = _bad(st.one_of(
     ]),
 ))
 
+@st.composite
+def _packet_dicts(draw):
+    """(a packet dict in the layout of packet_space, the bytes it sends): data of any integer dtype."""
+    data = draw(st.binary(min_size=128, max_size=128))
+    length, int_type = draw(_typed_ints(0, 128).filter(lambda p: p[0] < 128 or p[1] is not np.int8))
+    dtype = draw(st.sampled_from((np.uint8, np.int16, np.int64, np.uint64)))
+    packet = {"data": np.frombuffer(data, np.uint8).astype(dtype), "length": int_type(length)}
+    if draw(st.booleans()):
+        packet = {Text("length"): packet["length"], "data": packet["data"]}
+    return packet, data[:length]
+
+
+def _spoiled_packet(spoil: str) -> dict:
+    packet = {"data": np.zeros(128, np.uint8), "length": 3}
+    if spoil == "length":
+        packet["length"] = 129
+    elif spoil == "negative":
+        packet["length"] = -1
+    elif spoil == "bool":
+        packet["length"] = True
+    elif spoil == "float":
+        packet["length"] = 3.0
+    elif spoil == "short":
+        packet["data"] = np.zeros(127, np.uint8)
+    elif spoil == "floats":
+        packet["data"] = np.zeros(128, np.float32)
+    elif spoil == "big":
+        packet["data"] = np.full(128, 256, np.int16)
+    elif spoil == "below":
+        packet["data"] = np.full(128, -1, np.int8)
+    elif spoil == "list":
+        packet["data"] = [0] * 128
+    elif spoil == "bytes":
+        packet["data"] = bytes(128)
+    elif spoil == "masked":
+        packet["data"] = np.ma.masked_array(np.zeros(128, np.uint8))
+    elif spoil == "2d":
+        packet["data"] = np.zeros((1, 128), np.uint8)
+    elif spoil == "missing":
+        del packet["length"]
+    elif spoil == "extra":
+        packet["sender"] = 1
+    elif spoil == "twice":
+        packet[Twin("length")] = 3
+    return packet
+
+
+PACKET_SPOILS = ["length", "negative", "bool", "float", "short", "floats", "big", "below", "list", "bytes", "masked",
+                 "2d", "missing", "extra", "twice"]
 good_radio = st.one_of(
     st.binary(max_size=128).map(lambda data: (data, data)),
     st.binary(max_size=128).map(lambda data: (bytearray(data), data)),
+    _packet_dicts(),
     st.just((None, b"")),
 )
 bad_radio = _bad(st.one_of(
     st.binary(min_size=129, max_size=300),
     st.binary(min_size=129, max_size=300).map(bytearray),
     st.text(max_size=10),
-    _one_of([memoryview(b"x"), [1, 2], np.frombuffer(b"ab", np.uint8), 0, [b""], Broken(), b"x" * 10**5]),
+    st.sampled_from(PACKET_SPOILS).map(_spoiled_packet),
+    _one_of([memoryview(b"x"), [1, 2], np.frombuffer(b"ab", np.uint8), 0, [b""], Broken(), b"x" * 10**5,
+             BrokenMapping("iter"), {}]),
 ))
 
 

@@ -15,6 +15,7 @@ import math
 import numpy as np
 import pytest
 
+from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RenderConfig, RobotSpec, WorldConfig
 from world.field import Pose2D
@@ -150,3 +151,50 @@ def test_frames_are_deterministic(worlds):
         view(other)
     redrawn = view("wall and banners")
     assert first.tobytes() == remembered.tobytes() == redrawn.tobytes()
+
+
+SCATTERED = 6  # seeded layouts of the robots and the ball, half of them in and around the goals
+
+
+def test_broadcast_view_with_its_static_scene_cached_is_byte_identical(worlds):
+    """The broadcast view draws its hall and goals once per camera pose (world.static_scene): every pixel
+    is the one drawn with the goals by TinyRenderer each frame, whatever stands in front of or in the goals."""
+    analytic, _ = worlds
+    rng = np.random.default_rng(1)
+    cameras = [{}, {"eye": (0.0, 0.0, 9.0), "target": (0.0, 0.0, 0.0)},
+               {"eye": (-4.5, -1.0, 1.2), "target": (-3.0, 0.0, 0.3)}]
+    try:
+        for layout in range(SCATTERED):
+            for rid in ROBOTS:
+                x = rng.choice([-3.1, -2.95, 2.95, 3.1]) + rng.uniform(-0.2, 0.2) if layout % 2 else rng.uniform(-3, 3)
+                analytic.place_robot(rid, Pose2D(x, rng.uniform(-1.0, 1.0), rng.uniform(-math.pi, math.pi)))
+            analytic.place_ball(rng.uniform(-3.2, 3.2), rng.uniform(-0.8, 0.8))
+            analytic.step(3)
+            for camera in cameras:
+                cached = analytic.render_overview(**camera)
+                every_frame = rendering.render_overview(analytic.client, analytic.config.render, analytic.ground,
+                                                        **camera)  # no static scene: the goals drawn every frame
+                assert cached.shape == (480, 640, 3) and cached.tobytes() == every_frame.tobytes(), (layout, camera)
+    finally:
+        for rid, (_, pose) in ROBOTS.items():
+            analytic.place_robot(rid, pose)
+        analytic.place_ball(-0.2, 0.1)
+        analytic.step(2)
+
+
+def test_a_broadcast_frame_leaves_the_goals_as_the_robots_see_them(worlds):
+    """The broadcast frame hides the world's goals while TinyRenderer draws it; they are back afterwards."""
+    analytic, _ = worlds
+    analytic.place_robot("a", Pose2D(-1.6, 0.0, math.pi))  # facing the blue goal
+    analytic.set_head("a", 0.0, math.radians(5.0))
+    analytic.set_camera("a", CameraPosition.TOP)
+    analytic.step(8)
+    try:
+        before = analytic.render_camera("a")
+        blue = (before[..., 2] > 150) & (before[..., 0] < 100) & (before[..., 1] < 120)
+        assert blue.sum() > 100  # the goal is in view
+        analytic.render_overview()
+        assert analytic.render_camera("a").tobytes() == before.tobytes()
+    finally:
+        analytic.place_robot("a", ROBOTS["a"][1])
+        analytic.step(2)

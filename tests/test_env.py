@@ -74,6 +74,7 @@ def test_camera_off_gives_zeros_and_on_gives_a_picture():
         ({"camera": 7}, InvalidActionError, "'camera'"),
         ({"radio": b"x" * 129}, RadioPacketError, "128 bytes"),
         ({"radio": "text"}, RadioPacketError, "'radio'"),
+        ({"radio": {"data": np.zeros(128, np.uint8), "length": 200}}, RadioPacketError, "'radio.length' = 200"),
         ({"kick": 1}, InvalidActionError, "'kick'"),
     ],
 )

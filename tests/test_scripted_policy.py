@@ -18,6 +18,7 @@ from match.protocol import (
     Motion,
     action_space,
     observation_space,
+    packet_of,
     parse_action,
 )
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition, world_to_camera
@@ -144,7 +145,8 @@ def test_every_action_is_valid() -> None:
             obs["game"]["state"] = int(GameState.PLAYING)
             obs["fallen"] = 0
         action = player.act(obs)
-        assert space.contains(action), action
+        assert isinstance(action["radio"], bytes)  # make_action keeps a packet as bytes, which the env accepts
+        assert space.contains({**action, "radio": packet_of(action["radio"])}), action
         parse_action("home_1", action)
 
 

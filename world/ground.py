@@ -12,7 +12,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from world.backdrop import HallBackdrop
+from world.backdrop import Backdrop, HallBackdrop
 from world.config import RenderConfig
 from world.field import FieldGeometry
 from world.textures import TEXEL_M, carpet_texture
@@ -39,6 +39,12 @@ class GroundRenderer:
         bodies = np.ascontiguousarray(rgba).view(np.uint32).reshape(height_px, width_px)
         merged = np.where(depth_buffer >= hall.min_depth, hall.rgba, bodies)
         return cv2.cvtColor(merged.view(np.uint8).reshape(height_px, width_px, 4), cv2.COLOR_RGBA2RGB)
+
+    def backdrop(
+        self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int, focal_px: float
+    ) -> Backdrop:
+        """The hall as a camera (rotation camera->world, position m, ``focal_px`` focal length) sees it (cached)."""
+        return self._hall.draw(rotation, position, width_px, height_px, focal_px)
 
     def hits(
         self, depth_buffer: np.ndarray, rotation: np.ndarray, position: np.ndarray, focal_px: float

@@ -29,6 +29,7 @@ from world.locomotion import LocomotionController, MotionStatus, head_limits_che
 from world.motions import Motion
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
 from world.scene import SceneBodies, build_scene
+from world.static_scene import StaticScene
 from world.sensors import GRAVITY_MPS2, SensorReading, bumpers, head_angles, sonar_distances, sonar_rays, to_torso
 
 log = logging.getLogger(__name__)
@@ -127,11 +128,13 @@ class World:
         for body in (self._ball, *self._bodies.values()):
             pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=client)
         self._ground = None
+        self._static: StaticScene | None = None  # the broadcast view's hall and goals, drawn once per pose
         if cfg.render.analytic_ground:
             self._ground = GroundRenderer(cfg.field, cfg.render, self.scene.floor_half_extent)
             if not gui:  # the GUI window still shows the textured quads
                 for body in self.scene.ground_visuals:
                     pb.changeVisualShape(body, -1, rgbaColor=(0, 0, 0, 0), physicsClientId=client)
+                self._static = StaticScene(client, cfg.field, cfg.render, self.scene, self._ground)
         self.time_s = 0.0
         self._last_toucher: tuple[str | None, float | None] = (None, None)
         self._previous_velocity = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
@@ -146,6 +149,11 @@ class World:
     @property
     def client(self) -> int:
         return self._client
+
+    @property
+    def ground(self) -> GroundRenderer | None:
+        """The analytic ground and hall (:mod:`world.ground`); None when TinyRenderer draws everything."""
+        return self._ground
 
     @property
     def robot_ids(self) -> tuple[str, ...]:
@@ -237,6 +245,8 @@ class World:
     def close(self) -> None:
         if not self._closed:
             self._closed = True
+            if getattr(self, "_static", None) is not None:
+                self._static.close()
             pb.disconnect(physicsClientId=self._client)
 
     def __enter__(self) -> World:
@@ -434,8 +444,9 @@ class World:
         return BallState(*position, *velocity, last_toucher=toucher, last_touch_time_s=touch_time)
 
     def render_overview(self, **kwargs) -> np.ndarray:
-        """A broadcast view of the field (see :func:`world.rendering.render_overview`)."""
-        return rendering.render_overview(self._client, self.config.render, self._ground, **kwargs)
+        """A broadcast view of the field (see :func:`world.rendering.render_overview`); its goals and hall are
+        drawn once per camera pose (:mod:`world.static_scene`)."""
+        return rendering.render_overview(self._client, self.config.render, self._ground, static=self._static, **kwargs)
 
     # ---- checks ----------------------------------------------------------------------
 

@@ -14,7 +14,7 @@ from match.protocol.kickoff import (
     legal_kickoff_position,
     penalty_pose,
 )
-from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
+from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, packet_bytes, packet_of, packet_space
 from match.protocol.policy import AgentReport, AgentReporter, Policy, PoseReporter, PoseTuple
 from match.protocol.spaces import (
     MAX_SECONDS,
@@ -60,7 +60,6 @@ __all__ = [
     "InvalidActionError",
     "KickOff",
     "Motion",
-    "PacketSpace",
     "Policy",
     "PoseReporter",
     "PoseTuple",
@@ -76,6 +75,9 @@ __all__ = [
     "legal_kickoff_position",
     "penalty_pose",
     "make_action",
+    "packet_bytes",
+    "packet_of",
+    "packet_space",
     "observation_space",
     "parse_action",
     "parse_actions",

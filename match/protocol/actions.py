@@ -23,8 +23,11 @@ What is accepted (anything else is refused, not converted):
   rounding) are clamped onto it. ``walk`` absent: zeros; ``head`` absent or None: unchanged.
 - ``camera``: a :class:`~match.protocol.spaces.CameraChoice`, its name (ASCII, any case) or
   an integer 0-2 as for ``motion``; absent or None: unchanged.
-- ``radio``: bytes or bytearray of at most :data:`~match.protocol.packets.MAX_PACKET_BYTES`;
-  absent, None or ``b""``: no packet.
+- ``radio``: a packet dict as :func:`~match.protocol.packets.packet_space` lays it out
+  (exactly the keys ``data``, a 1-D numpy array of 128 integers in [0, 255], and ``length``,
+  an integer 0-128 as for ``motion``; ``data[:length]`` is sent), or bytes or bytearray of at
+  most :data:`~match.protocol.packets.MAX_PACKET_BYTES`; absent, None, ``b""`` or length 0:
+  no packet.
 
 :func:`make_action` builds an action dict for agents.
 """
@@ -38,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from match.errors import InvalidActionError, RadioPacketError, StepRefusedError, UnknownAgentError, shown
-from match.protocol.packets import MAX_PACKET_BYTES
+from match.protocol.packets import MAX_PACKET_BYTES, PACKET_KEYS
 from match.protocol.spaces import HEAD_HIGH, HEAD_LOW, MOTIONS, WALK_HIGH, WALK_LOW, CameraChoice
 from world.motions import Motion
 
@@ -289,12 +292,37 @@ def _as_float(value: object) -> float:
 
 
 def _packet(agent: str, value: object) -> bytes:
-    expected = f"bytes or bytearray of length at most {MAX_PACKET_BYTES} (b'' or None for no packet)"
+    expected = (f"bytes or bytearray of length at most {MAX_PACKET_BYTES}, a packet dict {{'data': {MAX_PACKET_BYTES} "
+                f"integers in [0, 255] (a 1-D numpy array), 'length': an integer in [0, {MAX_PACKET_BYTES}]}}, "
+                "or None for no packet")
     if value is None:
         return b""
+    if isinstance(value, Mapping):
+        return _packet_dict(agent, value, expected)
     if not isinstance(value, (bytes, bytearray)):
         raise RadioPacketError(agent, "radio", value, expected)
     view = memoryview(value)  # the buffer itself, whatever a subclass's __len__ or __bytes__ say
     if view.nbytes > MAX_PACKET_BYTES:
         raise RadioPacketError(agent, "radio", value, f"at most {MAX_PACKET_BYTES} bytes, got {view.nbytes} bytes")
     return view.tobytes()
+
+
+def _packet_dict(agent: str, value: Mapping, expected: str) -> bytes:
+    """The bytes of a packet in the layout of :func:`~match.protocol.packets.packet_space`."""
+    fields: dict[str, object] = {}
+    for key, item in _items(value, agent, "radio", expected):
+        name = _text(key)
+        if name not in PACKET_KEYS or name in fields:
+            raise RadioPacketError(agent, "radio", value, f"{expected}; got the key {shown(key)}")
+        fields[name] = item
+    if len(fields) != len(PACKET_KEYS):
+        raise RadioPacketError(agent, "radio", value, f"{expected}; got the keys {sorted(fields)}")
+    length = _index(fields["length"])
+    if length is None or not 0 <= length <= MAX_PACKET_BYTES:
+        raise RadioPacketError(agent, "radio.length", fields["length"], f"an integer in [0, {MAX_PACKET_BYTES}]")
+    data = fields["data"]
+    if (type(data) is not np.ndarray or data.dtype.kind not in "iu" or data.shape != (MAX_PACKET_BYTES,)
+            or int(data.min()) < 0 or int(data.max()) > 255):
+        raise RadioPacketError(agent, "radio.data", data,
+                               f"a 1-D numpy array of {MAX_PACKET_BYTES} integers in [0, 255] (dtype uint8)")
+    return data[:length].astype(np.uint8).tobytes()

@@ -23,7 +23,13 @@ Action (a dict; missing keys take the defaults of :func:`match.protocol.actions.
 
 - ``motion``: index into :data:`MOTIONS` (``walk`` uses ``walk``: vx, vy m/s, omega rad/s);
 - ``head``: yaw, pitch targets (rad); ``camera``: :class:`CameraChoice`;
-- ``radio``: a packet of at most 128 bytes, ``b""`` for none.
+- ``radio``: a packet, :func:`match.protocol.packets.packet_space`: ``data``, 128 bytes
+  (``Box(0, 255, (128,), uint8)``), of which the first ``length`` (``Discrete(129)``, 0: no
+  packet) are sent; ``bytes`` of at most 128 are accepted too.
+
+Every space is a standard gymnasium space (``Dict``, ``Box``, ``Discrete``, ``MultiBinary``),
+so ``gymnasium.spaces.flatten_space``, ``gymnasium.vector.utils.iterate`` and shared-memory
+vector envs work on them.
 """
 
 from __future__ import annotations
@@ -35,7 +41,7 @@ from gymnasium import spaces
 
 from match.protocol.game_control import DropIn, GameState, KickOff, SecondaryState
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM
-from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, PacketSpace
+from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, packet_space
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
 from world.motions import Motion, WalkLimits
 
@@ -139,6 +145,6 @@ def action_space() -> spaces.Dict:
             "walk": _box(WALK_LOW, WALK_HIGH, (3,)),
             "head": _box(HEAD_LOW, HEAD_HIGH, (2,)),
             "camera": spaces.Discrete(len(CameraChoice)),
-            "radio": PacketSpace(MAX_PACKET_BYTES),
+            "radio": packet_space(),
         }
     )

@@ -197,6 +197,80 @@ def bench_env(repeats: int) -> dict[str, float]:
     return metrics
 
 
+VEC_ENVS = 2  # PettingZoo envs in SuperSuit's vector env, one per worker process
+VEC_WARMUP = 10
+ACTION_POOL = 16  # batches of random actions drawn before the timing, used in turn
+
+
+def bench_vec_env(repeats: int) -> dict[str, float]:
+    """Env steps per second under SuperSuit's vector env (``concat_vec_envs_v1``): two 8-agent envs in two
+    worker processes (the default start method), random valid actions, with every camera on and with every
+    camera off; ``repeats`` vector steps each (one vector step steps both envs)."""
+    try:
+        import supersuit
+    except ImportError:
+        log.warning("vec_env benchmark skipped: SuperSuit is not installed (pip install -e '.[test]')")
+        return {}
+    from gymnasium.vector.utils import concatenate, create_empty_array
+
+    from match import parallel_env
+    from match.game import MatchConfig
+    from match.referee import RefereeConfig
+
+    metrics: dict[str, float] = {}
+    for cameras_on, suffix in ((True, ""), (False, "_cameras_off")):
+        env = parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START)))
+        agents = len(env.possible_agents)
+        vector = supersuit.concat_vec_envs_v1(supersuit.pettingzoo_env_to_vec_env_v1(env), VEC_ENVS,
+                                              num_cpus=VEC_ENVS, base_class="gymnasium")
+        try:
+            space = vector.action_space
+            space.seed(0)
+            pool = []
+            for _ in range(ACTION_POOL):
+                actions = [space.sample() for _ in range(vector.num_envs)]
+                for action in actions:
+                    action["camera"] = 1 + action["camera"] % 2 if cameras_on else 0
+                pool.append(concatenate(space, actions, create_empty_array(space, vector.num_envs)))
+            vector.reset(seed=0)
+            samples = np.empty(repeats)
+            for i in range(VEC_WARMUP + repeats):
+                start = time.perf_counter()
+                vector.step(pool[i % ACTION_POOL])
+                if i >= VEC_WARMUP:
+                    samples[i - VEC_WARMUP] = (time.perf_counter() - start) * 1e3
+        finally:
+            vector.close()
+            env.close()
+        metrics.update(summarize(f"vec_env_step{suffix}", samples))
+        metrics[f"vec_env_steps_per_s{suffix}"] = VEC_ENVS * 1e3 / float(np.mean(samples))
+        metrics[f"vec_env_agent_steps_per_s{suffix}"] = agents * metrics[f"vec_env_steps_per_s{suffix}"]
+    return metrics
+
+
+BROADCAST_WARMUP = 5
+
+
+def bench_broadcast(repeats: int) -> dict[str, float]:
+    """The env's ``render()``: the 640x480 broadcast view with its score bar, 8 robots on the field after
+    20 steps of random actions."""
+    from match import parallel_env
+    from match.game import MatchConfig
+    from match.referee import RefereeConfig
+
+    env = parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START)), render_mode="rgb_array")
+    try:
+        env.reset(seed=0)
+        for _ in range(20):
+            env.step({a: env.action_space(a).sample() for a in env.agents})
+        samples = time_ms(env.render, repeats, BROADCAST_WARMUP)
+    finally:
+        env.close()
+    metrics = summarize("broadcast_render", samples)
+    metrics["broadcast_render_fps"] = 1e3 / metrics["broadcast_render_ms_median"]
+    return metrics
+
+
 def bench_match(repeats: int) -> dict[str, float]:
     """Simulated seconds per wall second of an 8-robot match with the default policies in their default
     controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off)."""
@@ -262,6 +336,9 @@ BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
     Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
     Benchmark("env", "env.step(): 8 agents, all cameras on, random actions; and render+physics alone", bench_env),
+    Benchmark("vec_env", "SuperSuit's vector env, 2 envs of 8 agents in 2 processes, cameras on and off",
+              bench_vec_env),
+    Benchmark("broadcast", "env.render(): the 640x480 broadcast view, 8 robots", bench_broadcast),
     Benchmark("match", "an 8-robot match with the default policies, real-time factor", bench_match),
     Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
 )
