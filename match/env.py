@@ -123,8 +123,9 @@ class RobotStadiumEnv(ParallelEnv):
         """Start a new match. ``seed`` None: the next seed of the sequence of the last seed given.
         ``options``: ``{"random_start": True}`` starts the robots at poses drawn from the seed
         (uniform inside the field's lines, apart from each other and the ball) instead of their
-        kick-off poses. Raises :class:`EnvClosedError` after :meth:`close` and
-        :class:`MatchConfigError` for other options, before anything changes."""
+        kick-off poses; other keys are ignored with a warning. Raises :class:`EnvClosedError` after
+        :meth:`close` and :class:`MatchConfigError` for options that are not a dict or a
+        ``random_start`` that is not a bool, before anything changes."""
         self._open("reset()")
         random_start = _random_start(options)
         if seed is not None:
@@ -241,14 +242,15 @@ RESET_OPTIONS = ("random_start",)
 
 
 def _random_start(options: object) -> bool:
-    """``options["random_start"]`` of a ``reset``; a :class:`MatchConfigError` for anything else."""
+    """``options["random_start"]`` of a ``reset`` (other keys are ignored with a warning); a
+    :class:`MatchConfigError` for options that are not a dict or a ``random_start`` that is not a bool."""
     if options is None:
         return False
     if not isinstance(options, dict):
         raise MatchConfigError(f"reset options = {shown(options)} are invalid; expected None or a dict with keys {RESET_OPTIONS}")
     unknown = sorted(map(shown, set(options) - set(RESET_OPTIONS)))
-    if unknown:
-        raise MatchConfigError(f"reset options {', '.join(unknown)} are unknown; expected keys {RESET_OPTIONS}")
+    if unknown:  # PettingZoo's api_test passes options of its own: ignored, as gymnasium envs do
+        log.warning("reset options %s are not this env's (%s): ignored", ", ".join(unknown), ", ".join(RESET_OPTIONS))
     value = options.get("random_start", False)
     if not isinstance(value, bool):
         raise MatchConfigError(f"reset option random_start = {shown(value)} is invalid; expected True or False")
