@@ -23,7 +23,7 @@ from pettingzoo import AECEnv, ParallelEnv
 from pettingzoo.utils.conversions import parallel_to_aec, parallel_to_aec_wrapper
 
 from match.env_state import global_state, state_space
-from match.errors import EnvClosedError, MatchConfigError, StepRefusedError, UnknownAgentError
+from match.errors import EnvClosedError, MatchConfigError, StepRefusedError, UnknownAgentError, shown
 from match.game import Match, MatchConfig
 from match.protocol.spaces import action_space, observation_space
 
@@ -121,8 +121,13 @@ class RobotStadiumEnv(ParallelEnv):
 
     def reset(self, seed: int | None = None, options: dict | None = None):
         """Start a new match. ``seed`` None: the next seed of the sequence of the last seed given.
-        Raises :class:`EnvClosedError` after :meth:`close`."""
+        ``options``: ``{"random_start": True}`` starts the robots at poses drawn from the seed
+        (uniform inside the field's lines, apart from each other and the ball) instead of their
+        kick-off poses; other keys are ignored with a warning. Raises :class:`EnvClosedError` after
+        :meth:`close` and :class:`MatchConfigError` for options that are not a dict or a
+        ``random_start`` that is not a bool, before anything changes."""
         self._open("reset()")
+        random_start = _random_start(options)
         if seed is not None:
             self._seeds = np.random.SeedSequence(seed)
             match_seed = int(seed)
@@ -131,7 +136,7 @@ class RobotStadiumEnv(ParallelEnv):
                 self._seeds = np.random.SeedSequence()
             self._seeds = self._seeds.spawn(1)[0]
             match_seed = int(self._seeds.generate_state(1)[0])
-        observations = self.match.reset(match_seed)
+        observations = self.match.reset(match_seed, random_start=random_start)
         self.agents = list(self.possible_agents)
         self.num_cycles = 0
         return observations, self._infos()
@@ -231,3 +236,22 @@ def raw_env(**kwargs) -> AECEnv:
 def env(**kwargs) -> AECEnv:
     """The match as a PettingZoo AEC env (:func:`raw_env` in PettingZoo's order-enforcing wrapper)."""
     return parallel_to_aec(RobotStadiumEnv(**kwargs))
+
+
+RESET_OPTIONS = ("random_start",)
+
+
+def _random_start(options: object) -> bool:
+    """``options["random_start"]`` of a ``reset`` (other keys are ignored with a warning); a
+    :class:`MatchConfigError` for options that are not a dict or a ``random_start`` that is not a bool."""
+    if options is None:
+        return False
+    if not isinstance(options, dict):
+        raise MatchConfigError(f"reset options = {shown(options)} are invalid; expected None or a dict with keys {RESET_OPTIONS}")
+    unknown = sorted(map(shown, set(options) - set(RESET_OPTIONS)))
+    if unknown:  # PettingZoo's api_test passes options of its own: ignored, as gymnasium envs do
+        log.warning("reset options %s are not this env's (%s): ignored", ", ".join(unknown), ", ".join(RESET_OPTIONS))
+    value = options.get("random_start", False)
+    if not isinstance(value, bool):
+        raise MatchConfigError(f"reset option random_start = {shown(value)} is invalid; expected True or False")
+    return value

@@ -13,6 +13,7 @@ referee decisions (:mod:`match.free_play`): the scenario runs alone on the field
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from dataclasses import field as default
@@ -30,12 +31,17 @@ from match.protocol.spaces import CameraChoice
 from match.radio import Radio, RadioConfig
 from match.referee import Referee, RefereeConfig
 from world.config import RobotSpec, WorldConfig
+from world.field import Pose2D
 from world.errors import InvalidCommandError
 from world.motions import Motion
 from world.teams import TeamColor
 from world.world import World
 
 log = logging.getLogger(__name__)
+
+RANDOM_START_MARGIN_M = 0.3  # a random start pose lies this far inside the field's lines ...
+RANDOM_START_SPACING_M = 0.5  # ... this far from the ball and the robots placed before it
+RANDOM_START_TRIES = 100  # draws per robot before the last one is taken whatever its spacing
 
 
 @dataclass(frozen=True)
@@ -87,9 +93,12 @@ class Match:
 
     # ---- life cycle -------------------------------------------------------------------
 
-    def reset(self, seed: int = 0) -> dict[str, dict]:
-        """Start a new match from the world's initial state; the same seed gives the same match."""
-        world_seed, radio_seed = np.random.SeedSequence(seed).spawn(2)
+    def reset(self, seed: int = 0, random_start: bool = False) -> dict[str, dict]:
+        """Start a new match from the world's initial state; the same seed gives the same match.
+
+        ``random_start``: the robots start at poses drawn from the seed (:meth:`_place_at_random`)
+        instead of their kick-off poses (or the free play's starts)."""
+        world_seed, radio_seed, start_seed = np.random.SeedSequence(seed).spawn(3)
         self.world.reset(np.random.default_rng(world_seed))
         self.radio.reset(np.random.default_rng(radio_seed))
         self.step_index = 0
@@ -102,6 +111,8 @@ class Match:
             self.events.extend(self.referee.start().events)
         else:
             self._place_free_play(self.config.free_play)
+        if random_start:
+            self._place_at_random(np.random.default_rng(start_seed))
         self._started = True
         return self.observe({a: [] for a in self.agents})
 
@@ -110,6 +121,23 @@ class Match:
             self.world.place_robot(robot, pose)
         self.world.place_ball(*free_play.ball_xy)
         self.world.step(free_play.settle_steps)
+
+    def _place_at_random(self, rng: np.random.Generator) -> None:
+        """Every robot standing at a uniform pose inside the field's lines (at least
+        :data:`RANDOM_START_MARGIN_M` in), at least :data:`RANDOM_START_SPACING_M` from the
+        robots placed before it and from the ball."""
+        ball = self.world.ball()
+        taken = [(ball.x, ball.y)]
+        field = self.config.world.field
+        half_x, half_y = field.half_length - RANDOM_START_MARGIN_M, field.half_width - RANDOM_START_MARGIN_M
+        for agent in self.agents:
+            for _ in range(RANDOM_START_TRIES):
+                x, y = float(rng.uniform(-half_x, half_x)), float(rng.uniform(-half_y, half_y))
+                if all(math.hypot(x - px, y - py) >= RANDOM_START_SPACING_M for px, py in taken):
+                    break
+            theta = float(rng.uniform(-math.pi, math.pi))
+            self.world.place_robot(str(agent), Pose2D(x, y, theta))
+            taken.append((x, y))
 
     def close(self) -> None:
         self.world.close()
