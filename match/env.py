@@ -247,7 +247,9 @@ def _random_start(options: object) -> bool:
     if options is None:
         return False
     if not isinstance(options, dict):
-        raise MatchConfigError(f"reset options = {shown(options)} are invalid; expected None or a dict with keys {RESET_OPTIONS}")
+        raise MatchConfigError(
+            f"reset options = {shown(options)} are invalid; expected None or a dict with keys {RESET_OPTIONS}"
+        )
     unknown = sorted(map(shown, set(options) - set(RESET_OPTIONS)))
     if unknown:  # PettingZoo's api_test passes options of its own: ignored, as gymnasium envs do
         log.warning("reset options %s are not this env's (%s): ignored", ", ".join(unknown), ", ".join(RESET_OPTIONS))

@@ -31,8 +31,8 @@ from match.protocol.spaces import CameraChoice
 from match.radio import Radio, RadioConfig
 from match.referee import Referee, RefereeConfig
 from world.config import RobotSpec, WorldConfig
-from world.field import Pose2D
 from world.errors import InvalidCommandError
+from world.field import Pose2D
 from world.motions import Motion
 from world.teams import TeamColor
 from world.world import World
