@@ -44,6 +44,7 @@ from match.free_play import FreePlay
 from match.game import MatchConfig
 from match.protocol import CameraChoice, Motion, make_action
 from match.wrappers import ActionSet, DiscreteActions
+from scenarios.cli.arguments import int_in
 from scenarios.common.io import write_json
 from scenarios.common.plotting import plt, save_figure
 from world.field import Pose2D
@@ -318,32 +319,19 @@ def run(settings: Settings, out: Path) -> dict:
     return results
 
 
-def _bounded(low: int, high: int):
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"{value} is outside {low}-{high}")
-        return value
-
-    return parse
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     defaults = Settings()
-    parser.add_argument("--timesteps", type=_bounded(64, 10_000_000), default=defaults.timesteps,
+    parser.add_argument("--timesteps", type=int_in(64, 10_000_000), default=defaults.timesteps,
                         help=f"learner steps to train, 64-10000000 (default {defaults.timesteps})")
-    parser.add_argument("--envs", type=_bounded(1, 64), default=defaults.envs, help="envs in the vector env, 1-64")
-    parser.add_argument("--workers", type=_bounded(1, 64), default=defaults.workers,
+    parser.add_argument("--envs", type=int_in(1, 64), default=defaults.envs, help="envs in the vector env, 1-64")
+    parser.add_argument("--workers", type=int_in(1, 64), default=defaults.workers,
                         help="their processes, 1-64 (1: in this process)")
-    parser.add_argument("--episode-steps", type=_bounded(5, 10_000), default=defaults.episode_steps,
+    parser.add_argument("--episode-steps", type=int_in(5, 10_000), default=defaults.episode_steps,
                         help="steps an episode, 5-10000")
-    parser.add_argument("--eval-episodes", type=_bounded(1, 10_000), default=defaults.eval_episodes,
+    parser.add_argument("--eval-episodes", type=int_in(1, 10_000), default=defaults.eval_episodes,
                         help="evaluation episodes per policy, 1-10000")
-    parser.add_argument("--seed", type=_bounded(0, 2**32 - 1), default=defaults.seed, help="seed, 0-4294967295")
+    parser.add_argument("--seed", type=int_in(0, 2**32 - 1), default=defaults.seed, help="seed, 0-4294967295")
     parser.add_argument("--out", type=Path, default=Path("out/look_at_ball"), help="output directory")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s")

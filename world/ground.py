@@ -36,9 +36,7 @@ class GroundRenderer:
         camera->world, position m, ``focal_px`` focal length)."""
         height_px, width_px = depth_buffer.shape
         hall = self._hall.draw(rotation, position, width_px, height_px, focal_px)
-        bodies = np.ascontiguousarray(rgba).view(np.uint32).reshape(height_px, width_px)
-        merged = np.where(depth_buffer >= hall.min_depth, hall.rgba, bodies)
-        return cv2.cvtColor(merged.view(np.uint8).reshape(height_px, width_px, 4), cv2.COLOR_RGBA2RGB)
+        return merge_by_depth(rgba, depth_buffer, hall.min_depth, hall.rgba)
 
     def backdrop(
         self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int, focal_px: float
@@ -75,3 +73,13 @@ class GroundRenderer:
         """Which field points (m) lie on the hall's floor (inside the walls)."""
         floor_x, floor_y = self._floor_half
         return (np.abs(x) < floor_x) & (np.abs(y) < floor_y)
+
+
+def merge_by_depth(rgba: np.ndarray, depth_buffer: np.ndarray, threshold: np.ndarray, behind: np.ndarray) -> np.ndarray:
+    """RGB image (h, w, 3) uint8: TinyRenderer's bodies (``rgba`` (h, w, 4) uint8, ``depth_buffer`` (h, w))
+    where they are nearer than ``threshold`` (h, w), else ``behind`` ((h, w) uint32, packed RGBA bytes)."""
+    height_px, width_px = depth_buffer.shape
+    bodies = np.ascontiguousarray(rgba).view(np.uint32).reshape(height_px, width_px)
+    merged = np.where(depth_buffer >= threshold, behind, bodies)
+    return cv2.cvtColor(merged.view(np.uint8).reshape(height_px, width_px, 4), cv2.COLOR_RGBA2RGB)
+

@@ -21,13 +21,12 @@ from __future__ import annotations
 from collections import OrderedDict
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
 import pybullet as pb
 
 from world.config import RenderConfig
 from world.field import FieldGeometry
-from world.ground import GroundRenderer
+from world.ground import GroundRenderer, merge_by_depth
 from world.rendering import focal_length_px, tiny_renderer_buffers
 from world.scene import GOAL_RGBA, SceneBodies, build_scene
 
@@ -83,9 +82,7 @@ class StaticScene:
         finally:
             for color, goal in self._goals.items():
                 pb.changeVisualShape(goal, -1, rgbaColor=GOAL_RGBA[color], physicsClientId=self._client)
-        bodies = np.ascontiguousarray(rgba).view(np.uint32).reshape(height_px, width_px)
-        merged = np.where(depth >= layer.threshold, layer.rgba, bodies)
-        return cv2.cvtColor(merged.view(np.uint8).reshape(height_px, width_px, 4), cv2.COLOR_RGBA2RGB)
+        return merge_by_depth(rgba, depth, layer.threshold, layer.rgba)
 
     def _layer(
         self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int, vertical_fov_rad: float
