@@ -211,6 +211,7 @@ def train(settings: Settings) -> tuple[object, list[tuple[int, float]], float]:
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import BaseCallback
+    from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.utils import set_random_seed
     from stable_baselines3.common.vec_env import VecMonitor
     from supersuit.vector.sb3_vector_wrapper import SB3VecEnvWrapper
@@ -249,6 +250,7 @@ def train(settings: Settings) -> tuple[object, list[tuple[int, float]], float]:
     model = PPO("MlpPolicy", vector, n_steps=n_steps, batch_size=min(64, n_steps * settings.envs), n_epochs=10,
                 learning_rate=1e-3, gamma=0.9, ent_coef=0.01, policy_kwargs={"net_arch": [64, 64]},
                 device="cpu", verbose=0)
+    model.set_logger(Logger(folder=None, output_formats=[]))  # SB3's default makes an empty run folder in the temp dir
     episodes = Episodes()
     start = time.perf_counter()
     try:
