@@ -12,7 +12,9 @@ kinds give the same decisions for policies that behave:
   (:attr:`ControllerLimits.group`), started from a clean server process (``forkserver``
   where there is one, else ``spawn``), so a controller cannot reach the simulator's objects.
   Observations go out and actions come back over pipes; the processes of one step work in
-  parallel. A controller that has not answered within the step budget
+  parallel, each asked as soon as its robots' observations are built (the runner offers each
+  one as the match builds it: the home team's controller acts while the away team's cameras
+  are rendered). A controller that has not answered within the step budget
   (:attr:`ControllerLimits.step_budget_s`) gets its robots a stand for that step and a
   fault; while it is still busy its robots stand, and its late answer is dropped. It is then
   on probation: steps no longer wait for it (its answer counts when it comes while the others
@@ -58,6 +60,7 @@ PolicyFactory = Callable[[], Policy]  # builds a robot's policy; picklable for c
 GROUPS = ("robot", "team")
 MEMORY_CHECK_EVERY_STEPS = 25
 PROBATION_ANSWERS = 3  # answers within the step budget in a row that end a controller's probation
+CLOSE_WAIT_S = 1.0  # at most this long for the answers of a step the match ended before
 MAX_RESTARTS = 100  # restarts of one controller in a match; then it stays stopped (each costs about 20-50 ms)
 # the allowed range of each number of ControllerLimits (seconds, MiB)
 LIMIT_BOUNDS = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
@@ -124,6 +127,9 @@ class Controllers(Protocol):
     def start(self, seeds: Mapping[str, int]) -> Decision:
         """(Re)set every policy for a new match (its ``reset``); the decision's actions are empty."""
 
+    def offer(self, agent: str, observation: Mapping[str, Any]) -> None:
+        """One robot's observation of the coming :meth:`decide`, as soon as it is built (optional early start)."""
+
     def decide(self, observations: Mapping[str, Mapping[str, Any]]) -> Decision:
         """Every robot's action for this step's observations (agent id -> observation dict)."""
 
@@ -149,6 +155,9 @@ class InProcessControllers:
             except BaseException as error:  # noqa: B036 - SystemExit of a policy is its own fault
                 faults.append(PolicyFault.of(agent, error))
         return Decision({}, tuple(faults), self._reader.estimates(), self._reader.reports())
+
+    def offer(self, agent: str, observation: Mapping[str, Any]) -> None:
+        """Nothing: here the policies act one after the other in :meth:`decide`."""
 
     def decide(self, observations: Mapping[str, Mapping[str, Any]]) -> Decision:
         actions, faults = _act_all(self._policies, observations)
@@ -179,7 +188,13 @@ class ProcessControllers:
             groups.setdefault(agent if limits.group == "robot" else agent.split("_")[0], []).append(agent)
         self._controllers = [_Controller(self._context, {a: factories[a] for a in members})
                              for members in groups.values()]
+        self._of_agent = {agent: c for c in self._controllers for agent in c.agents}
         self._steps = 0
+        self._step_open = False  # a step's health checks are done and its asks may go out
+        self._offered: dict[str, Mapping[str, Any]] = {}
+        self._asked: list[_Controller] = []
+        self._step_faults: list[PolicyFault] = []
+        self._askable_now: set[int] = set()
         self._estimates: dict[str, PoseTuple | None] = dict.fromkeys(self.agents)
         self._reports: dict[str, AgentReport | None] = dict.fromkeys(self.agents)
 
@@ -196,16 +211,26 @@ class ProcessControllers:
                 faults += controller.fail(f"did not start within {self.limits.start_budget_s:g} s")
         return Decision({}, tuple(faults), dict(self._estimates), dict(self._reports))
 
+    def offer(self, agent: str, observation: Mapping[str, Any]) -> None:
+        """Keep one robot's observation of the coming step; a controller whose robots' observations are all
+        here is asked at once, so it works while the simulator builds the others' (the step's checks of late
+        answers and health come first, as in :meth:`decide`). Its answer is awaited in :meth:`decide`."""
+        self._open_step()
+        self._offered[agent] = observation
+        controller = self._of_agent.get(agent)
+        if (controller is not None and self._askable(controller)
+                and all(a in self._offered for a in controller.agents)):
+            self._step_faults += controller.ask({a: self._offered[a] for a in controller.agents})
+            self._asked.append(controller)
+
     def decide(self, observations: Mapping[str, Mapping[str, Any]]) -> Decision:
-        faults: list[PolicyFault] = []
-        self._steps += 1
-        self._collect(self._controllers, _started, time.perf_counter(), faults)  # late answers that arrived
-        now = time.perf_counter()
+        self._open_step()
+        faults, asked = self._step_faults, self._asked
         for controller in self._controllers:
-            faults += controller.check_health(now, self.limits, self._steps % MEMORY_CHECK_EVERY_STEPS == 0)
-        asked = [c for c in self._controllers if c.ready and not c.busy]
-        for controller in asked:
-            faults += controller.ask({a: observations[a] for a in controller.agents if a in observations})
+            if self._askable(controller):
+                faults += controller.ask({a: observations[a] for a in controller.agents if a in observations})
+                asked.append(controller)
+        self._step_open, self._offered, self._asked, self._step_faults = False, {}, [], []
         in_good_standing = [c for c in asked if not c.probation]
         self._collect(in_good_standing, _answered, time.perf_counter() + self.limits.step_budget_s, faults)
         actions: dict[str, Action | None] = dict.fromkeys(self.agents)
@@ -220,8 +245,31 @@ class ProcessControllers:
         return Decision(actions, tuple(faults), dict(self._estimates), dict(self._reports))
 
     def close(self) -> None:
+        """Stop every controller process; one still working on an offered step gets its step budget (at most
+        :data:`CLOSE_WAIT_S`) to answer first, so that it ends on its own rather than killed."""
+        busy = [c for c in self._controllers if c.busy and not c.probation]
+        if busy:
+            self._collect(busy, _answered, time.perf_counter() + min(self.limits.step_budget_s, CLOSE_WAIT_S), [])
+        self._step_open, self._offered, self._asked, self._step_faults = False, {}, [], []
         for controller in self._controllers:
             controller.stop()
+
+    def _open_step(self) -> None:
+        """Begin a step once: read the late answers that arrived, then restart the dead, hung or too big."""
+        if self._step_open:
+            return
+        self._step_open = True
+        self._steps += 1
+        faults = self._step_faults
+        self._collect(self._controllers, _started, time.perf_counter(), faults)  # late answers that arrived
+        now = time.perf_counter()
+        for controller in self._controllers:
+            faults += controller.check_health(now, self.limits, self._steps % MEMORY_CHECK_EVERY_STEPS == 0)
+        self._askable_now = {id(c) for c in self._controllers if c.ready and not c.busy}
+
+    def _askable(self, controller: _Controller) -> bool:
+        """Ready and idle when the step began, and not asked in it yet."""
+        return id(controller) in self._askable_now and all(c is not controller for c in self._asked)
 
     def __enter__(self) -> ProcessControllers:
         return self

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from dataclasses import field as default
 
@@ -39,6 +39,8 @@ from world.world import World
 
 log = logging.getLogger(__name__)
 
+ObservedCallback = Callable[[str, dict], None]
+"""Gets (robot name, its new observation) during :meth:`Match.step`."""
 RANDOM_START_MARGIN_M = 0.3  # a random start pose lies this far inside the field's lines ...
 RANDOM_START_SPACING_M = 0.5  # ... this far from the ball and the robots placed before it
 RANDOM_START_TRIES = 100  # draws per robot before the last one is taken whatever its spacing
@@ -170,8 +172,12 @@ class Match:
                     raise InvalidActionError(name, "walk", action.walk, str(error)) from None
         return {self._by_name[name]: action for name, action in parsed.items()}
 
-    def step(self, actions: Mapping[str, object]) -> StepResult:
-        """One control step; a :class:`StepRefusedError` (bad actions, not started, finished) changes nothing."""
+    def step(self, actions: Mapping[str, object], observed: ObservedCallback | None = None) -> StepResult:
+        """One control step; a :class:`StepRefusedError` (bad actions, not started, finished) changes nothing.
+
+        ``observed(robot, observation)``, if given, gets each robot's new observation as soon as it is
+        built, while the others' cameras are still rendered (controller processes start on it early); not
+        called on the step that ends the match."""
         if not self._started:
             raise StepRefusedError("the match has not started; call reset() before step()")
         if self.finished:
@@ -195,7 +201,9 @@ class Match:
                     rewards[str(agent)] += 1.0 if agent.side is scorer else -1.0
         positions = self._positions() if self.config.radio.range_m is not None else None
         inboxes = self.radio.deliver(self.step_index, positions)
-        return StepResult(self.observe(inboxes), rewards, events, self.finished)
+        # a finished match is asked for no more actions: nobody is told to start on these observations
+        return StepResult(self.observe(inboxes, None if self.finished else observed), rewards, events,
+                          self.finished)
 
     def _apply(self, agent: AgentId, action: Action) -> None:
         robot = str(agent)
@@ -215,7 +223,8 @@ class Match:
 
     # ---- what agents get --------------------------------------------------------------
 
-    def observe(self, inboxes: Mapping[AgentId, list]) -> dict[str, dict]:
+    def observe(self, inboxes: Mapping[AgentId, list], observed: ObservedCallback | None = None) -> dict[str, dict]:
+        """Every robot's observation (robot name -> observation dict), in agent order; ``observed`` as in :meth:`step`."""
         readings = self.world.sensors_all(self.agent_names)
         broadcast = free_play_control(self.world.time_s) if self.free_play else self.referee.broadcast
         views: dict[Side, GameControlView] = {side: broadcast.view_for(side) for side in Side}
@@ -230,6 +239,8 @@ class Match:
                 game_observation(views[agent.side], agent.player),
                 radio_observation(inboxes.get(agent, []), self.radio.take_drops(agent)),
             )
+            if observed is not None:
+                observed(robot, observations[robot])
         return observations
 
     # ---- ground truth (evaluation only) -------------------------------------------------

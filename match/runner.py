@@ -213,7 +213,8 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
                 observer.decided(match, actions)
             if watcher is not None:
                 watcher.observed(match, observations, decision.estimates)
-            result = match.step(actions)
+            last = max_steps is not None and steps + 1 >= max_steps
+            result = match.step(actions, observed=None if last else controllers.offer)
             observations = result.observations
             radio.actions(actions)
             radio.observations(observations)

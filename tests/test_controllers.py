@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import time
 from pathlib import Path
@@ -9,7 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from match.controllers import ControllerLimits
+from agents.policies import make_policy
+from match.controllers import ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
 from scenarios.matches.play import Lineup, run_lineup_match
 
@@ -90,3 +92,20 @@ def test_in_process_every_fault_of_a_policy_is_contained_too(tmp_path: Path) -> 
     assert summary["faults"]["by_agent"] == {"home_0": 30, "away_0": 1}  # every act of Misbehaves is a fault
     errors = {d["error"].split(":")[0] for d in summary["faults"]["details"]}
     assert errors == {"RuntimeError", "SystemExit", "InvalidActionError"}
+
+
+def test_a_controller_starts_on_its_robots_observations_before_the_step_is_decided() -> None:
+    factories = {agent: functools.partial(make_policy, GOOD) for agent in ("home_0", "home_1", "away_0")}
+    with ProcessControllers(factories, ControllerLimits(group="team")) as controllers:
+        controllers.start(dict.fromkeys(factories, 0))
+        home, away = (controllers._of_agent[agent] for agent in ("home_0", "away_0"))
+        controllers.offer("home_0", {})
+        assert not home.busy  # one of its robots' observations is still missing
+        controllers.offer("home_1", {})
+        assert home.busy and not away.busy
+        decision = controllers.decide({agent: {} for agent in factories})
+        assert not decision.faults and all(decision.actions[agent] is not None for agent in factories)
+        assert not home.busy and not away.busy
+        controllers.offer("away_0", {})  # a step the match ends before deciding: closing still works
+        assert away.busy
+    assert not away.busy and away.process is None
