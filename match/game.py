@@ -224,12 +224,14 @@ class Match:
     # ---- what agents get --------------------------------------------------------------
 
     def observe(self, inboxes: Mapping[AgentId, list], observed: ObservedCallback | None = None) -> dict[str, dict]:
-        """Every robot's observation (robot name -> observation dict), in agent order; ``observed`` as in :meth:`step`."""
+        """Every robot's observation (robot name -> observation dict), in agent order; ``observed`` as in :meth:`step`
+        gets them in the order they are built: the robots whose camera is off first."""
         readings = self.world.sensors_all(self.agent_names)
         broadcast = free_play_control(self.world.time_s) if self.free_play else self.referee.broadcast
         views: dict[Side, GameControlView] = {side: broadcast.view_for(side) for side in Side}
         observations = {}
-        for agent in self.agents:
+        # robots whose camera is off first: their observations are ready before any frame is rendered
+        for agent in sorted(self.agents, key=lambda a: self._cameras[a] is not CameraChoice.OFF):
             robot = str(agent)
             camera_on = self._cameras[agent] is not CameraChoice.OFF
             image = self.world.render_camera(robot) if camera_on else None
@@ -241,7 +243,7 @@ class Match:
             )
             if observed is not None:
                 observed(robot, observations[robot])
-        return observations
+        return {str(agent): observations[str(agent)] for agent in self.agents}
 
     # ---- ground truth (evaluation only) -------------------------------------------------
 

@@ -594,3 +594,15 @@ def test_a_step_without_a_dict_of_actions_is_refused(twins) -> None:
         with pytest.raises(StepRefusedError, match="expected a dict of agent id -> action") as raised:
             env.step(actions)
         assert type(raised.value) is StepRefusedError and raised.value.agent is None
+
+
+def test_an_action_the_check_built_passes_again_as_itself_and_only_that_one() -> None:
+    checked = parse_action("home_0", {"motion": "walk", "walk": (0.0, 0.0, 0.2), "head": (0.1, 0.2)})
+    assert parse_action("away_1", checked) is checked  # checked once, e.g. in a controller process's answer
+    twin = Action(checked.motion, walk=(False, 0.0, 0.2), head=checked.head)  # equal to it, but not built by it
+    assert twin == checked
+    with pytest.raises(InvalidActionError, match="walk"):
+        parse_action("home_0", twin)
+    forged = Action(Motion.WALK, walk=(float("nan"), 0.0, 0.0))
+    with pytest.raises(InvalidActionError, match="walk"):
+        parse_action("home_0", forged)

@@ -35,6 +35,7 @@ What is accepted (anything else is refused, not converted):
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -76,6 +77,8 @@ class Action:
 
 
 STAND = Action(Motion.STAND)
+_BUILT: weakref.WeakValueDictionary[int, Action] = weakref.WeakValueDictionary()
+"""The live Actions :func:`parse_action` built (by id): already checked, they pass again at once."""
 
 
 def make_action(
@@ -124,6 +127,8 @@ def parse_action(agent: str, raw: object) -> Action:
     and build the Action of plain values (see the module docstring for what is accepted)."""
     if raw is None:
         return STAND
+    if _BUILT.get(id(raw)) is raw:  # one of ours, checked when built (and frozen)
+        return raw
     if isinstance(raw, Action):
         fields = _action_fields(agent, raw)
     elif isinstance(raw, Mapping):
@@ -142,7 +147,9 @@ def parse_action(agent: str, raw: object) -> Action:
     if fields.get("camera") is not None:
         camera = _camera(agent, fields["camera"])
     radio = _packet(agent, fields.get("radio"))
-    return Action(motion=motion, walk=walk, head=head, camera=camera, radio=radio)
+    action = Action(motion=motion, walk=walk, head=head, camera=camera, radio=radio)
+    _BUILT[id(action)] = action
+    return action
 
 
 def _dict_fields(agent: str, raw: Mapping) -> dict[str, object]:
