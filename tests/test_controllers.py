@@ -2,16 +2,19 @@
 
 from __future__ import annotations
 
+import functools
 import json
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from match.controllers import ControllerLimits
+from agents.policies import make_policy
+from match.controllers import ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
-from scenarios.matches.play import Lineup, run_lineup_match
+from scenarios.matches.play import PRELOAD, Lineup, run_lineup_match
 
 pytestmark = pytest.mark.render
 
@@ -90,3 +93,18 @@ def test_in_process_every_fault_of_a_policy_is_contained_too(tmp_path: Path) -> 
     assert summary["faults"]["by_agent"] == {"home_0": 30, "away_0": 1}  # every act of Misbehaves is a fault
     errors = {d["error"].split(":")[0] for d in summary["faults"]["details"]}
     assert errors == {"RuntimeError", "SystemExit", "InvalidActionError"}
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="peak memory is read from /proc")
+def test_peak_resident_memory_of_the_live_controller_processes() -> None:
+    factories = {agent: functools.partial(make_policy, "stand") for agent in ("home_0", "away_0")}
+    controllers = ProcessControllers(factories, ControllerLimits(group="robot"), preload=PRELOAD)
+    try:
+        assert controllers.peak_resident_mb() is None  # none started yet
+        decision = controllers.start({"home_0": 1, "away_0": 2})
+        assert decision.faults == ()
+        peak = controllers.peak_resident_mb()
+        assert peak is not None and 2.0 < peak < 2 * LIMITS.memory_mb, peak  # two small Python processes
+    finally:
+        controllers.close()
+    assert controllers.peak_resident_mb() is None  # closed: no live process
