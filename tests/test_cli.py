@@ -102,9 +102,14 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
     assert results["render_ms_p90"] >= results["render_ms_median"]
     for key in ("env_steps_per_s", "render_physics_only_steps_per_s", "env_over_render_physics_ratio", "match_real_time_factor",
                 "vec_env_steps_per_s", "vec_env_steps_per_s_cameras_off", "vec_env_agent_steps_per_s",
-                "broadcast_render_fps"):
+                "broadcast_render_fps", "env_steps_per_s_cameras_off", "env_step_cameras_off_ms_median"):
         assert isinstance(results[key], float) and results[key] > 0.0, (key, results[key])
     assert results["vec_env_agent_steps_per_s"] == pytest.approx(8 * results["vec_env_steps_per_s"])
+    assert results["env_steps_per_s_cameras_off"] > results["env_steps_per_s"]  # no frames to render
+    if sys.platform.startswith("linux"):
+        simulator, controllers = results["peak_rss_simulator_mb"], results["peak_rss_controllers_mb"]
+        assert simulator > 20.0 and controllers > 20.0, (simulator, controllers)
+        assert results["peak_rss_mb"] == pytest.approx(simulator + controllers)
     assert results["repeats"] == QUICK_REPEATS
     machine = results["machine"]
     assert machine["cpu_count"] >= 1 and machine["pybullet_api_version"] > 0 and machine["python"]

@@ -11,10 +11,11 @@ from scenarios.tools.bench import DEFAULT_REPEATS, QUICK_REPEATS, format_table, 
 NAME = "bench"
 HELP = "measure rendering and physics costs, write bench.json"
 DESCRIPTION = (
-    "Time one 160x120 robot camera frame, one 40 ms control step of 8 walking robots, env.step, "
-    "env steps under SuperSuit's vector env in 2 processes (cameras on and off), the 640x480 broadcast "
-    "render and a short match; print a table and write DIR/bench.json (medians and 90th percentiles "
-    "in ms, rates, machine details)."
+    "Time one 160x120 robot camera frame, one 40 ms control step of 8 walking robots, env.step (cameras on "
+    "and off), env steps under SuperSuit's vector env in 2 processes (cameras on and off), the 640x480 "
+    "broadcast render, a short match (its real-time factor and peak memory) and the team agent's act; print "
+    "a table and write DIR/bench.json (medians and 90th percentiles in ms, rates, peak memory in MiB, machine "
+    "details)."
 )
 MAX_REPEATS = 5_000  # the agent benchmark alone plays up to 40 steps a repeat: hours beyond this
 

@@ -11,12 +11,16 @@ from __future__ import annotations
 
 import logging
 import math
+import multiprocessing
 import os
 import platform
+import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pybullet as pb
@@ -28,6 +32,10 @@ from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
 from world.motions import Motion
 from world.world import World
+
+if TYPE_CHECKING:
+    from match.controllers import ProcessControllers
+    from match.game import Match
 
 log = logging.getLogger(__name__)
 
@@ -154,7 +162,8 @@ QUICK_START = {"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}
 
 def bench_env(repeats: int) -> dict[str, float]:
     """``env.step`` with 8 agents, all cameras on, random valid actions; beside it, in the same
-    run and on the same world, the rendering and physics alone (``World.step`` + 8 frames)."""
+    run and on the same world, the rendering and physics alone (``World.step`` + 8 frames);
+    then, on the same env, ``env.step`` with every camera off (``env_step_cameras_off``)."""
     from match import parallel_env
     from match.game import MatchConfig
     from match.referee import RefereeConfig
@@ -165,10 +174,10 @@ def bench_env(repeats: int) -> dict[str, float]:
         world = env.match.world
         robots = env.match.agent_names
 
-        def random_actions() -> dict:
+        def random_actions(cameras_on: bool = True) -> dict:
             actions = {a: env.action_space(a).sample() for a in env.agents}
             for action in actions.values():
-                action["camera"] = 1 + action["camera"] % 2  # top or bottom: every camera on
+                action["camera"] = 1 + action["camera"] % 2 if cameras_on else 0  # top or bottom, or none
             return actions
 
         def render_and_physics() -> None:
@@ -188,10 +197,22 @@ def bench_env(repeats: int) -> dict[str, float]:
                 env_ms[i - ENV_WARMUP], raw_ms[i - ENV_WARMUP] = (middle - start) * 1e3, (end - middle) * 1e3
             if not env.agents:
                 env.reset(seed=i)
+
+        off_actions: dict = {}
+
+        def draw_cameras_off() -> None:
+            if not env.agents:
+                env.reset(seed=ENV_WARMUP + repeats)
+            off_actions.clear()
+            off_actions.update(random_actions(cameras_on=False))
+
+        off_ms = time_ms(lambda: env.step(off_actions), repeats, ENV_WARMUP, before=draw_cameras_off)
     finally:
         env.close()
-    metrics = {**summarize("env_step", env_ms), **summarize("render_physics_only", raw_ms)}
+    metrics = {**summarize("env_step", env_ms), **summarize("render_physics_only", raw_ms),
+               **summarize("env_step_cameras_off", off_ms)}
     metrics["env_steps_per_s"] = 1e3 / metrics["env_step_ms_median"]
+    metrics["env_steps_per_s_cameras_off"] = 1e3 / metrics["env_step_cameras_off_ms_median"]
     metrics["render_physics_only_steps_per_s"] = 1e3 / metrics["render_physics_only_ms_median"]
     metrics["env_over_render_physics_ratio"] = metrics["env_step_ms_median"] / metrics["render_physics_only_ms_median"]
     return metrics
@@ -273,8 +294,25 @@ def bench_broadcast(repeats: int) -> dict[str, float]:
 
 def bench_match(repeats: int) -> dict[str, float]:
     """Simulated seconds per wall second of an 8-robot match with the default policies in their default
-    controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off)."""
-    from match.controllers import ControllerLimits
+    controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off),
+    and its peak resident memory (MiB).
+
+    The match is played in a fresh process (``spawn``), so ``peak_rss_simulator_mb`` is the peak of a
+    simulator process that played only this match (interpreter, imports, world, match), not of the
+    benchmarks before it. ``peak_rss_controllers_mb`` sums the controller processes' peaks, read just before
+    the run closes them; ``peak_rss_mb`` is the sum of both. The memory keys are left out where the system
+    does not report them (Linux does).
+    """
+    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        metrics = pool.submit(play_bench_match, repeats).result()
+    log.info("match: %.0f steps, %.2fx real time, peak resident memory %s MiB", metrics["match_steps"],
+             metrics["match_real_time_factor"], f"{metrics['peak_rss_mb']:.0f}" if "peak_rss_mb" in metrics else "?")
+    return metrics
+
+
+def play_bench_match(repeats: int) -> dict[str, float]:
+    """The match of :func:`bench_match`, in this process: its real-time factor, steps and peak memory (MiB)."""
+    from match.controllers import ControllerLimits, ProcessControllers
     from match.game import Match
     from match.runner import run_match
     from scenarios.matches.play import Lineup, match_config
@@ -283,11 +321,53 @@ def bench_match(repeats: int) -> dict[str, float]:
     config = replace(config, referee=replace(config.referee, **QUICK_START))
     match = Match(config)
     try:
-        summary = run_match(config, Lineup().controllers(match.agents, ControllerLimits()), seed=0, progress=False,
-                            max_steps=2 * repeats, match=match)
+        controllers = Lineup().controllers(match.agents, ControllerLimits())
+        assert isinstance(controllers, ProcessControllers)  # limits given: controller processes
+        stop = _StopAfter(2 * repeats, controllers)
+        summary = run_match(config, controllers, seed=0, progress=False, match=match, observer=stop)
     finally:
         match.close()
-    return {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
+    metrics: dict[str, float] = {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
+    simulator_mb = own_peak_resident_mb()
+    if simulator_mb is not None and stop.controllers_peak_mb is not None:
+        metrics.update(peak_rss_mb=simulator_mb + stop.controllers_peak_mb, peak_rss_simulator_mb=simulator_mb,
+                       peak_rss_controllers_mb=stop.controllers_peak_mb)
+    else:
+        log.warning("match benchmark: this system does not report peak memory; no peak_rss keys")
+    return metrics
+
+
+class _StopAfter:
+    """A match observer that ends the run after ``steps`` steps, reading the controller processes' peak
+    resident memory (MiB) first: the run closes them when it ends."""
+
+    def __init__(self, steps: int, controllers: ProcessControllers):
+        self.steps = steps
+        self.controllers = controllers
+        self.played = 0
+        self.controllers_peak_mb: float | None = None
+
+    def decided(self, match: Match, actions: Mapping[str, object]) -> None:
+        self.played += 1
+
+    def done(self, match: Match) -> bool:
+        if self.played < self.steps:
+            return False
+        self.controllers_peak_mb = self.controllers.peak_resident_mb()
+        return True
+
+
+def own_peak_resident_mb() -> float | None:
+    """This process's peak resident memory since it started, in MiB (``ru_maxrss``: KiB on Linux, bytes on
+    macOS), None where the system does not say."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    if peak <= 0:
+        return None
+    return peak / 2**20 if sys.platform == "darwin" else peak / 1024
 
 
 AGENT_WARMUP_STEPS = 10
@@ -335,11 +415,13 @@ def bench_agent(repeats: int) -> dict[str, float]:
 BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
     Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
-    Benchmark("env", "env.step(): 8 agents, all cameras on, random actions; and render+physics alone", bench_env),
+    Benchmark("env", "env.step(): 8 agents, random actions, all cameras on (and render+physics alone), then off",
+              bench_env),
     Benchmark("vec_env", "SuperSuit's vector env, 2 envs of 8 agents in 2 processes, cameras on and off",
               bench_vec_env),
     Benchmark("broadcast", "env.render(): the 640x480 broadcast view, 8 robots", bench_broadcast),
-    Benchmark("match", "an 8-robot match with the default policies, real-time factor", bench_match),
+    Benchmark("match", "an 8-robot match with the default policies in a fresh process, real-time factor and peak "
+              "memory", bench_match),
     Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
 )
 
@@ -419,3 +501,4 @@ def format_table(results: dict) -> str:
             lines.append(f"{key}: {value:.3f}")
     lines.append(f"repeats: {results.get('repeats')}")
     return "\n".join(lines)
+
