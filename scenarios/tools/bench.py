@@ -4,11 +4,13 @@ Each benchmark is a named function in :data:`BENCHMARKS` that gets the number of
 repeats and returns flat metrics (``<name>_ms_median``, ``<name>_ms_p90``, ...); they are
 merged, with a description of the machine, into ``bench.json``. Add a benchmark by
 appending to :data:`BENCHMARKS`. Times are wall-clock (``time.perf_counter``), measured
-after a warm-up; quote medians (docs/design.md section 6).
+after a warm-up; quote medians (docs/design.md section 6). :func:`compare_results` sets two
+runs' figures side by side (``robotstadium bench --compare``).
 """
 
 from __future__ import annotations
 
+import json
 import logging
 import math
 import multiprocessing
@@ -26,6 +28,7 @@ import numpy as np
 import pybullet as pb
 
 from agents.vision.head_scan import SCAN_PITCH_RAD
+from scenarios.common.batch import describe_error
 from scenarios.common.io import write_json
 from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
@@ -502,3 +505,139 @@ def format_table(results: dict) -> str:
     lines.append(f"repeats: {results.get('repeats')}")
     return "\n".join(lines)
 
+
+def format_comparison(rows: Sequence[Comparison], old_label: str) -> str:
+    """``rows`` of :func:`compare_results` as a plain-text table (new, old, new/old, which way is worse,
+    the mark), then how many are worse and better than ``old_label``."""
+    table = [("key", "new", "old", "new/old", "worse if", "")]
+    for row in rows:
+        ratio = "-" if row.ratio is None else f"{row.ratio:.3f}"
+        table.append((row.key, f"{row.new:.3f}", f"{row.old:.3f}", ratio, row.worse_when or "-", row.mark))
+    widths = [max(len(line[i]) for line in table) for i in range(len(table[0]))]
+    lines = ["  ".join([line[0].ljust(widths[0]), *(c.rjust(w) for c, w in zip(line[1:5], widths[1:5])),
+                        line[5]]).rstrip() for line in table]
+    lines.insert(1, "  ".join("-" * w for w in widths[:5]))
+    worse, better = (sum(row.mark == mark for row in rows) for mark in ("worse", "better"))
+    lines.append(f"against {old_label}: {worse} worse, {better} better by more than {COMPARE_THRESHOLD:.0%}")
+    return "\n".join(lines)
+
+
+# ---- comparing two runs -------------------------------------------------------------------
+
+COMPARE_THRESHOLD = 0.10
+"""A row is marked worse (better) when its ratio new/old is worse (better) by more than this fraction."""
+HIGHER, LOWER = "higher", "lower"
+COMPARE_FILE = "compare.json"
+MAX_BENCH_FILE_BYTES = 1_000_000  # a bench.json is a few kB
+
+
+class BenchFileError(ValueError):
+    """A bench.json to compare with that cannot be read or holds no benchmark figures."""
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """One key of two runs: the new and old values, ``ratio`` new/old (None: the old value is 0),
+    ``worse_when`` (:data:`HIGHER`, :data:`LOWER` or None: no direction) and ``mark``
+    (``"worse"``, ``"better"`` or ``""``)."""
+
+    key: str
+    new: float
+    old: float
+    ratio: float | None
+    worse_when: str | None
+    mark: str
+
+
+def worse_when(key: str) -> str | None:
+    """Which way ``key`` gets worse: peak memory (``peak_rss*``) and times (``_ms_``) :data:`HIGHER`, rates
+    (``_per_s``, ``_fps``, ``real_time_factor``) :data:`LOWER`; None for other numbers (counts, ratios)."""
+    if key.startswith("peak_rss") or "_ms_" in key:
+        return HIGHER
+    if "_per_s" in key or "_fps" in key or "real_time_factor" in key:
+        return LOWER
+    return None
+
+
+def _number(value: object) -> float | None:
+    """``value`` as a float if it is a finite number (not a bool), else None."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return None
+    return float(value)
+
+
+def compare_results(new: Mapping[str, object], old: Mapping[str, object],
+                    threshold: float = COMPARE_THRESHOLD) -> list[Comparison]:
+    """Every key holding a finite number in both ``new`` and ``old`` (in ``new``'s order), with its ratio
+    new/old and a mark: ``"worse"`` when the ratio is beyond ``1 + threshold`` in the worse direction
+    (:func:`worse_when`; below ``1 - threshold`` for rates), ``"better"`` beyond it the other way. Keys
+    in one of them only, and keys of no direction, get no mark."""
+    rows = []
+    for key, value in new.items():
+        new_value, old_value = _number(value), _number(old.get(key))
+        if new_value is None or old_value is None:
+            continue
+        ratio = new_value / old_value if old_value != 0 else None
+        direction = worse_when(key)
+        mark = ""
+        if ratio is not None and direction is not None:
+            higher, lower = ratio > 1 + threshold, ratio < 1 - threshold
+            if higher or lower:
+                mark = "worse" if (higher if direction == HIGHER else lower) else "better"
+        rows.append(Comparison(key, new_value, old_value, ratio, direction, mark))
+    return rows
+
+
+_JSON_NAMES = {list: "an array", str: "a string", int: "a number", float: "a number", bool: "a boolean",
+               type(None): "null"}
+
+
+def read_bench_file(path: Path) -> dict:
+    """The results of a ``bench.json``: a regular file of at most :data:`MAX_BENCH_FILE_BYTES`, a JSON object
+    with at least one benchmark figure (a finite number under a key :func:`worse_when` knows);
+    :class:`BenchFileError` naming ``path`` otherwise."""
+    expected = "expected a bench.json of robotstadium bench, a JSON object with figures such as render_ms_median"
+    path = Path(path)
+    name = _shown(str(path))
+    raw = b""
+    try:
+        regular = path.is_file()
+        if regular:
+            with path.open("rb") as handle:
+                raw = handle.read(MAX_BENCH_FILE_BYTES + 1)
+    except OSError as error:  # a name too long, a permission
+        raise BenchFileError(f"{name}: {error.strerror or type(error).__name__}; {expected}") from None
+    if not regular:
+        raise BenchFileError(f"{name}: not an existing regular file; {expected}")
+    if len(raw) > MAX_BENCH_FILE_BYTES:
+        raise BenchFileError(f"{name}: more than {MAX_BENCH_FILE_BYTES} bytes; {expected}")
+    try:
+        results = json.loads(raw.decode("utf-8"))
+    except (ValueError, RecursionError) as error:  # not UTF-8, not JSON, nested too deep
+        raise BenchFileError(f"{name}: {describe_error(error)[:200]}; {expected}") from None
+    if not isinstance(results, dict):
+        raise BenchFileError(f"{name}: {_JSON_NAMES.get(type(results), 'a JSON value')}, not an object; {expected}")
+    if not any(worse_when(key) is not None and _number(value) is not None for key, value in results.items()):
+        raise BenchFileError(f"{name}: no benchmark figure; {expected}")
+    return results
+
+
+def _shown(text: str) -> str:
+    """``text`` as a message shows a path: at most 60 characters."""
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def write_comparison(out_dir: Path, rows: Sequence[Comparison], old_path: Path) -> Path:
+    """Write ``compare.json``: the file compared with, the threshold, every row, and the keys marked worse
+    and better."""
+    document = {
+        "old": str(old_path),
+        "threshold": COMPARE_THRESHOLD,
+        "rows": {row.key: {"new": row.new, "old": row.old, "ratio": row.ratio, "worse_when": row.worse_when,
+                           "mark": row.mark} for row in rows},
+        "worse": [row.key for row in rows if row.mark == "worse"],
+        "better": [row.key for row in rows if row.mark == "better"],
+    }
+    path = write_json(Path(out_dir) / COMPARE_FILE, document)
+    log.info("wrote %s", path)
+    return path
