@@ -244,6 +244,17 @@ class ProcessControllers:
                                           f"{self.limits.step_budget_s:g} s") for a in controller.agents]
         return Decision(actions, tuple(faults), dict(self._estimates), dict(self._reports))
 
+    def peak_resident_mb(self) -> float | None:
+        """The peak resident memory (MiB) of the live controller processes, summed: each one's high-water mark
+        since it started (Linux's ``VmHWM``); None where the system does not say (or none is running).
+
+        Read it before :meth:`close` (:func:`~match.runner.run_match` closes the controllers when the run
+        ends); a restarted controller's earlier processes are not counted.
+        """
+        peaks = [_peak_resident_mb(c.process.pid) for c in self._controllers if c.process is not None]
+        known = [peak for peak in peaks if peak is not None]
+        return sum(known) if known else None
+
     def close(self) -> None:
         """Stop every controller process; one still working on an offered step gets its step budget (at most
         :data:`CLOSE_WAIT_S`) to answer first, so that it ends on its own rather than killed."""
@@ -547,3 +558,17 @@ def _resident_mb(pid: int) -> float | None:
     except (OSError, ValueError, IndexError):
         return None
     return pages * PAGE_BYTES / 2**20
+
+
+def _peak_resident_mb(pid: int) -> float | None:
+    """Peak resident memory of process ``pid`` since it started, in MiB (Linux's ``VmHWM``), None where the
+    system does not say."""
+    try:
+        with open(f"/proc/{pid}/status", encoding="ascii", errors="replace") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    value, unit = line.split()[1:3]
+                    return int(value) / 1024 if unit == "kB" else None
+    except (OSError, ValueError):
+        return None
+    return None

@@ -13,7 +13,16 @@ import numpy as np
 import pytest
 
 from scenarios import cli
-from scenarios.tools.bench import QUICK_REPEATS, run_bench
+from scenarios.tools.bench import (
+    QUICK_REPEATS,
+    BenchFileError,
+    Comparison,
+    compare_results,
+    format_comparison,
+    read_bench_file,
+    run_bench,
+    worse_when,
+)
 from world.errors import InvalidPoseError
 
 CAMERA_FRAMES = (
@@ -102,9 +111,14 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
     assert results["render_ms_p90"] >= results["render_ms_median"]
     for key in ("env_steps_per_s", "render_physics_only_steps_per_s", "env_over_render_physics_ratio", "match_real_time_factor",
                 "vec_env_steps_per_s", "vec_env_steps_per_s_cameras_off", "vec_env_agent_steps_per_s",
-                "broadcast_render_fps"):
+                "broadcast_render_fps", "env_steps_per_s_cameras_off", "env_step_cameras_off_ms_median"):
         assert isinstance(results[key], float) and results[key] > 0.0, (key, results[key])
     assert results["vec_env_agent_steps_per_s"] == pytest.approx(8 * results["vec_env_steps_per_s"])
+    assert results["env_steps_per_s_cameras_off"] > results["env_steps_per_s"]  # no frames to render
+    if sys.platform.startswith("linux"):
+        simulator, controllers = results["peak_rss_simulator_mb"], results["peak_rss_controllers_mb"]
+        assert simulator > 20.0 and controllers > 20.0, (simulator, controllers)
+        assert results["peak_rss_mb"] == pytest.approx(simulator + controllers)
     assert results["repeats"] == QUICK_REPEATS
     machine = results["machine"]
     assert machine["cpu_count"] >= 1 and machine["pybullet_api_version"] > 0 and machine["python"]
@@ -148,6 +162,70 @@ def test_library_errors_give_one_line_and_exit_2(
 def test_run_bench_refuses_non_positive_repeats(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="repeats"):
         run_bench(tmp_path, repeats=0)
+
+
+@pytest.mark.parametrize(
+    ("key", "direction"),
+    [("render_ms_median", "higher"), ("env_step_cameras_off_ms_p90", "higher"), ("env_steps_per_s", "lower"),
+     ("vec_env_steps_per_s_cameras_off", "lower"), ("broadcast_render_fps", "lower"),
+     ("match_real_time_factor", "lower"), ("peak_rss_mb", "higher"), ("peak_rss_controllers_mb", "higher"),
+     ("repeats", None), ("match_steps", None), ("env_over_render_physics_ratio", None)],
+)
+def test_which_way_a_bench_key_gets_worse(key: str, direction: str | None) -> None:
+    assert worse_when(key) == direction
+
+
+def test_compare_results_gives_ratios_and_marks_changes_beyond_10_percent() -> None:
+    old = {"render_ms_median": 4.0, "agent_act_ms_median": 1.0, "physics_step_ms_median": 2.0,
+           "env_steps_per_s": 20.0, "broadcast_render_fps": 50.0, "match_real_time_factor": 0.5,
+           "peak_rss_mb": 300.0, "repeats": 200, "only_old_ms_median": 1.0, "machine": {"cpu": "x"}}
+    new = {"render_ms_median": 5.0, "agent_act_ms_median": 0.8, "physics_step_ms_median": 2.1,
+           "env_steps_per_s": 16.0, "broadcast_render_fps": 60.0, "match_real_time_factor": 0.5,
+           "peak_rss_mb": 360.0, "repeats": 20, "only_new_fps": 3.0, "machine": {"cpu": "x"}}
+    rows = {row.key: row for row in compare_results(new, old)}
+    assert list(rows) == ["render_ms_median", "agent_act_ms_median", "physics_step_ms_median", "env_steps_per_s",
+                          "broadcast_render_fps", "match_real_time_factor", "peak_rss_mb", "repeats"]
+    assert rows["render_ms_median"] == Comparison("render_ms_median", 5.0, 4.0, 1.25, "higher", "worse")
+    assert rows["agent_act_ms_median"].ratio == pytest.approx(0.8) and rows["agent_act_ms_median"].mark == "better"
+    assert rows["physics_step_ms_median"].ratio == pytest.approx(1.05) and rows["physics_step_ms_median"].mark == ""
+    assert (rows["env_steps_per_s"].ratio, rows["env_steps_per_s"].mark) == (0.8, "worse")
+    assert (rows["broadcast_render_fps"].ratio, rows["broadcast_render_fps"].mark) == (1.2, "better")
+    assert rows["match_real_time_factor"].mark == "" and rows["peak_rss_mb"].mark == "worse"
+    assert (rows["repeats"].ratio, rows["repeats"].worse_when, rows["repeats"].mark) == (0.1, None, "")
+    table = format_comparison(list(rows.values()), "old.json")
+    assert "render_ms_median" in table and "1.250" in table
+    assert table.splitlines()[-1] == "against old.json: 3 worse, 2 better by more than 10%"
+
+
+def test_compare_results_skips_non_numbers_and_has_no_ratio_to_zero() -> None:
+    old = {"render_ms_median": 0.0, "env_steps_per_s": float("nan"), "broadcast_render_fps": True,
+           "agent_act_ms_median": "1.0"}
+    new = {"render_ms_median": 1.0, "env_steps_per_s": 20.0, "broadcast_render_fps": 50.0, "agent_act_ms_median": 1.0}
+    assert compare_results(new, old) == [Comparison("render_ms_median", 1.0, 0.0, None, "higher", "")]
+
+
+def test_bench_compare_prints_the_ratios_and_writes_compare_json(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    old_file = tmp_path / "old.json"
+    old_file.write_text(json.dumps({"render_ms_median": 4.0, "env_steps_per_s": 20.0, "repeats": 20}))
+    new = {"repeats": 20, "render_ms_median": 5.0, "env_steps_per_s": 21.0}
+    monkeypatch.setattr(cli.bench, "run_bench", lambda out_dir, repeats: new)  # no benchmark run here
+    assert read_bench_file(old_file)["render_ms_median"] == 4.0
+    assert cli.main(["bench", "--out", str(tmp_path / "out"), "--quick", "--compare", str(old_file)]) == 0
+    out = capsys.readouterr().out
+    assert "worse" in out and f"against {old_file}: 1 worse, 0 better" in out
+    compare = json.loads((tmp_path / "out" / "compare.json").read_text(encoding="utf-8"))
+    assert compare["old"] == str(old_file) and compare["worse"] == ["render_ms_median"] and compare["better"] == []
+    assert compare["rows"]["env_steps_per_s"] == {"new": 21.0, "old": 20.0, "ratio": 1.05, "worse_when": "lower",
+                                                  "mark": ""}
+
+
+def test_read_bench_file_names_the_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("old.json").write_text('{"repeats": 20, "machine": {}}', encoding="utf-8")
+    with pytest.raises(BenchFileError, match=r"^old\.json: no benchmark figure; expected a bench\.json"):
+        read_bench_file(Path("old.json"))
 
 
 def test_module_entry_point(tmp_path: Path) -> None:

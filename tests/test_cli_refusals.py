@@ -31,6 +31,8 @@ TABLE = [
     (["world-demo"], "--out", BAD_DIRS),
     (["bench", "--out", "out"], "--repeats", ("0", "5001", "1000000000000", *BAD_COUNTS)),
     (["bench"], "--out", BAD_DIRS),
+    (["bench", "--out", "out"], "--compare", ("", "nul\0byte", "nowhere.json", "a_dir", "a_file", "broken", "loop",
+                                              "/proc/x", "/dev/null", "/dev/zero", "n" * 300)),
     (["match"], "--home", ("nope", "no.such.module:Policy", "")),
     (["match"], "--away", ("nope", "")),
     (["match"], "--policy", ("home_9=scripted", "home_1", "home_1=nope", "=scripted")),
@@ -208,6 +210,32 @@ def test_the_help_states_every_bound(command: str, capsys: pytest.CaptureFixture
     text = capsys.readouterr().out
     for bound in BOUNDS_IN_HELP[command]:
         assert bound in text, bound
+
+
+BAD_BENCH_FILES = [
+    ("truncated", b'{"render_ms_median": 4.'),
+    ("binary", bytes(range(256))),
+    ("empty", b""),
+    ("deep", b"[" * 100_000 + b"]" * 100_000),
+    ("array", b'[{"render_ms_median": 4.0}]'),
+    ("null", b"null"),
+    ("string", b'"bench"'),
+    ("no figures", b'{"repeats": 20, "match_steps": 40, "machine": {"cpu": "x"}}'),
+    ("figures as text", b'{"render_ms_median": "4.0", "env_steps_per_s": "20"}'),
+    ("figures as booleans", b'{"render_ms_median": true}'),
+    ("figures not finite", b'{"render_ms_median": NaN, "env_steps_per_s": Infinity}'),
+    ("over a megabyte", b'{"render_ms_median": 4.0, "pad": "' + b"a" * 1_000_000 + b'"}'),
+]
+
+
+@pytest.mark.parametrize("content", [c for _, c in BAD_BENCH_FILES], ids=[n for n, _ in BAD_BENCH_FILES])
+def test_bench_refuses_a_file_to_compare_that_is_no_bench_json(content: bytes, place: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    (place / "old.json").write_bytes(content)
+    before = snapshot(place)
+    line = refused(["bench", "--out", "out", "--quick", "--compare", "old.json"], capsys)
+    assert "--compare old.json: " in line and "expected a bench.json" in line and len(line) < 400
+    assert snapshot(place) == before
 
 
 # ---- scenario files ------------------------------------------------------------------------

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -13,7 +14,7 @@ import pytest
 from agents.policies import make_policy
 from match.controllers import ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
-from scenarios.matches.play import Lineup, run_lineup_match
+from scenarios.matches.play import PRELOAD, Lineup, run_lineup_match
 
 pytestmark = pytest.mark.render
 
@@ -109,3 +110,18 @@ def test_a_controller_starts_on_its_robots_observations_before_the_step_is_decid
         controllers.offer("away_0", {})  # a step the match ends before deciding: closing still works
         assert away.busy
     assert not away.busy and away.process is None
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="peak memory is read from /proc")
+def test_peak_resident_memory_of_the_live_controller_processes() -> None:
+    factories = {agent: functools.partial(make_policy, "stand") for agent in ("home_0", "away_0")}
+    controllers = ProcessControllers(factories, ControllerLimits(group="robot"), preload=PRELOAD)
+    try:
+        assert controllers.peak_resident_mb() is None  # none started yet
+        decision = controllers.start({"home_0": 1, "away_0": 2})
+        assert decision.faults == ()
+        peak = controllers.peak_resident_mb()
+        assert peak is not None and 2.0 < peak < 2 * LIMITS.memory_mb, peak  # two small Python processes
+    finally:
+        controllers.close()
+    assert controllers.peak_resident_mb() is None  # closed: no live process

@@ -4,30 +4,41 @@ Each benchmark is a named function in :data:`BENCHMARKS` that gets the number of
 repeats and returns flat metrics (``<name>_ms_median``, ``<name>_ms_p90``, ...); they are
 merged, with a description of the machine, into ``bench.json``. Add a benchmark by
 appending to :data:`BENCHMARKS`. Times are wall-clock (``time.perf_counter``), measured
-after a warm-up; quote medians (docs/design.md section 6).
+after a warm-up; quote medians (docs/design.md section 6). :func:`compare_results` sets two
+runs' figures side by side (``robotstadium bench --compare``).
 """
 
 from __future__ import annotations
 
+import json
 import logging
 import math
+import multiprocessing
 import os
 import platform
+import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pybullet as pb
 
 from agents.vision.head_scan import SCAN_PITCH_RAD
+from scenarios.common.batch import describe_error
 from scenarios.common.io import write_json
 from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
 from world.motions import Motion
 from world.world import World
+
+if TYPE_CHECKING:
+    from match.controllers import ProcessControllers
+    from match.game import Match
 
 log = logging.getLogger(__name__)
 
@@ -154,7 +165,8 @@ QUICK_START = {"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}
 
 def bench_env(repeats: int) -> dict[str, float]:
     """``env.step`` with 8 agents, all cameras on, random valid actions; beside it, in the same
-    run and on the same world, the rendering and physics alone (``World.step`` + 8 frames)."""
+    run and on the same world, the rendering and physics alone (``World.step`` + 8 frames);
+    then, on the same env, ``env.step`` with every camera off (``env_step_cameras_off``)."""
     from match import parallel_env
     from match.game import MatchConfig
     from match.referee import RefereeConfig
@@ -165,10 +177,10 @@ def bench_env(repeats: int) -> dict[str, float]:
         world = env.match.world
         robots = env.match.agent_names
 
-        def random_actions() -> dict:
+        def random_actions(cameras_on: bool = True) -> dict:
             actions = {a: env.action_space(a).sample() for a in env.agents}
             for action in actions.values():
-                action["camera"] = 1 + action["camera"] % 2  # top or bottom: every camera on
+                action["camera"] = 1 + action["camera"] % 2 if cameras_on else 0  # top or bottom, or none
             return actions
 
         def render_and_physics() -> None:
@@ -188,10 +200,22 @@ def bench_env(repeats: int) -> dict[str, float]:
                 env_ms[i - ENV_WARMUP], raw_ms[i - ENV_WARMUP] = (middle - start) * 1e3, (end - middle) * 1e3
             if not env.agents:
                 env.reset(seed=i)
+
+        off_actions: dict = {}
+
+        def draw_cameras_off() -> None:
+            if not env.agents:
+                env.reset(seed=ENV_WARMUP + repeats)
+            off_actions.clear()
+            off_actions.update(random_actions(cameras_on=False))
+
+        off_ms = time_ms(lambda: env.step(off_actions), repeats, ENV_WARMUP, before=draw_cameras_off)
     finally:
         env.close()
-    metrics = {**summarize("env_step", env_ms), **summarize("render_physics_only", raw_ms)}
+    metrics = {**summarize("env_step", env_ms), **summarize("render_physics_only", raw_ms),
+               **summarize("env_step_cameras_off", off_ms)}
     metrics["env_steps_per_s"] = 1e3 / metrics["env_step_ms_median"]
+    metrics["env_steps_per_s_cameras_off"] = 1e3 / metrics["env_step_cameras_off_ms_median"]
     metrics["render_physics_only_steps_per_s"] = 1e3 / metrics["render_physics_only_ms_median"]
     metrics["env_over_render_physics_ratio"] = metrics["env_step_ms_median"] / metrics["render_physics_only_ms_median"]
     return metrics
@@ -273,8 +297,25 @@ def bench_broadcast(repeats: int) -> dict[str, float]:
 
 def bench_match(repeats: int) -> dict[str, float]:
     """Simulated seconds per wall second of an 8-robot match with the default policies in their default
-    controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off)."""
-    from match.controllers import ControllerLimits
+    controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off),
+    and its peak resident memory (MiB).
+
+    The match is played in a fresh process (``spawn``), so ``peak_rss_simulator_mb`` is the peak of a
+    simulator process that played only this match (interpreter, imports, world, match), not of the
+    benchmarks before it. ``peak_rss_controllers_mb`` sums the controller processes' peaks, read just before
+    the run closes them; ``peak_rss_mb`` is the sum of both. The memory keys are left out where the system
+    does not report them (Linux does).
+    """
+    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        metrics = pool.submit(play_bench_match, repeats).result()
+    log.info("match: %.0f steps, %.2fx real time, peak resident memory %s MiB", metrics["match_steps"],
+             metrics["match_real_time_factor"], f"{metrics['peak_rss_mb']:.0f}" if "peak_rss_mb" in metrics else "?")
+    return metrics
+
+
+def play_bench_match(repeats: int) -> dict[str, float]:
+    """The match of :func:`bench_match`, in this process: its real-time factor, steps and peak memory (MiB)."""
+    from match.controllers import ControllerLimits, ProcessControllers
     from match.game import Match
     from match.runner import run_match
     from scenarios.matches.play import Lineup, match_config
@@ -283,11 +324,53 @@ def bench_match(repeats: int) -> dict[str, float]:
     config = replace(config, referee=replace(config.referee, **QUICK_START))
     match = Match(config)
     try:
-        summary = run_match(config, Lineup().controllers(match.agents, ControllerLimits()), seed=0, progress=False,
-                            max_steps=2 * repeats, match=match)
+        controllers = Lineup().controllers(match.agents, ControllerLimits())
+        assert isinstance(controllers, ProcessControllers)  # limits given: controller processes
+        stop = _StopAfter(2 * repeats, controllers)
+        summary = run_match(config, controllers, seed=0, progress=False, match=match, observer=stop)
     finally:
         match.close()
-    return {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
+    metrics: dict[str, float] = {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
+    simulator_mb = own_peak_resident_mb()
+    if simulator_mb is not None and stop.controllers_peak_mb is not None:
+        metrics.update(peak_rss_mb=simulator_mb + stop.controllers_peak_mb, peak_rss_simulator_mb=simulator_mb,
+                       peak_rss_controllers_mb=stop.controllers_peak_mb)
+    else:
+        log.warning("match benchmark: this system does not report peak memory; no peak_rss keys")
+    return metrics
+
+
+class _StopAfter:
+    """A match observer that ends the run after ``steps`` steps, reading the controller processes' peak
+    resident memory (MiB) first: the run closes them when it ends."""
+
+    def __init__(self, steps: int, controllers: ProcessControllers):
+        self.steps = steps
+        self.controllers = controllers
+        self.played = 0
+        self.controllers_peak_mb: float | None = None
+
+    def decided(self, match: Match, actions: Mapping[str, object]) -> None:
+        self.played += 1
+
+    def done(self, match: Match) -> bool:
+        if self.played < self.steps:
+            return False
+        self.controllers_peak_mb = self.controllers.peak_resident_mb()
+        return True
+
+
+def own_peak_resident_mb() -> float | None:
+    """This process's peak resident memory since it started, in MiB (``ru_maxrss``: KiB on Linux, bytes on
+    macOS), None where the system does not say."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    if peak <= 0:
+        return None
+    return peak / 2**20 if sys.platform == "darwin" else peak / 1024
 
 
 AGENT_WARMUP_STEPS = 10
@@ -335,11 +418,13 @@ def bench_agent(repeats: int) -> dict[str, float]:
 BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
     Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
-    Benchmark("env", "env.step(): 8 agents, all cameras on, random actions; and render+physics alone", bench_env),
+    Benchmark("env", "env.step(): 8 agents, random actions, all cameras on (and render+physics alone), then off",
+              bench_env),
     Benchmark("vec_env", "SuperSuit's vector env, 2 envs of 8 agents in 2 processes, cameras on and off",
               bench_vec_env),
     Benchmark("broadcast", "env.render(): the 640x480 broadcast view, 8 robots", bench_broadcast),
-    Benchmark("match", "an 8-robot match with the default policies, real-time factor", bench_match),
+    Benchmark("match", "an 8-robot match with the default policies in a fresh process, real-time factor and peak "
+              "memory", bench_match),
     Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
 )
 
@@ -419,3 +504,140 @@ def format_table(results: dict) -> str:
             lines.append(f"{key}: {value:.3f}")
     lines.append(f"repeats: {results.get('repeats')}")
     return "\n".join(lines)
+
+
+def format_comparison(rows: Sequence[Comparison], old_label: str) -> str:
+    """``rows`` of :func:`compare_results` as a plain-text table (new, old, new/old, which way is worse,
+    the mark), then how many are worse and better than ``old_label``."""
+    table = [("key", "new", "old", "new/old", "worse if", "")]
+    for row in rows:
+        ratio = "-" if row.ratio is None else f"{row.ratio:.3f}"
+        table.append((row.key, f"{row.new:.3f}", f"{row.old:.3f}", ratio, row.worse_when or "-", row.mark))
+    widths = [max(len(line[i]) for line in table) for i in range(len(table[0]))]
+    lines = ["  ".join([line[0].ljust(widths[0]), *(c.rjust(w) for c, w in zip(line[1:5], widths[1:5])),
+                        line[5]]).rstrip() for line in table]
+    lines.insert(1, "  ".join("-" * w for w in widths[:5]))
+    worse, better = (sum(row.mark == mark for row in rows) for mark in ("worse", "better"))
+    lines.append(f"against {old_label}: {worse} worse, {better} better by more than {COMPARE_THRESHOLD:.0%}")
+    return "\n".join(lines)
+
+
+# ---- comparing two runs -------------------------------------------------------------------
+
+COMPARE_THRESHOLD = 0.10
+"""A row is marked worse (better) when its ratio new/old is worse (better) by more than this fraction."""
+HIGHER, LOWER = "higher", "lower"
+COMPARE_FILE = "compare.json"
+MAX_BENCH_FILE_BYTES = 1_000_000  # a bench.json is a few kB
+
+
+class BenchFileError(ValueError):
+    """A bench.json to compare with that cannot be read or holds no benchmark figures."""
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """One key of two runs: the new and old values, ``ratio`` new/old (None: the old value is 0),
+    ``worse_when`` (:data:`HIGHER`, :data:`LOWER` or None: no direction) and ``mark``
+    (``"worse"``, ``"better"`` or ``""``)."""
+
+    key: str
+    new: float
+    old: float
+    ratio: float | None
+    worse_when: str | None
+    mark: str
+
+
+def worse_when(key: str) -> str | None:
+    """Which way ``key`` gets worse: peak memory (``peak_rss*``) and times (``_ms_``) :data:`HIGHER`, rates
+    (``_per_s``, ``_fps``, ``real_time_factor``) :data:`LOWER`; None for other numbers (counts, ratios)."""
+    if key.startswith("peak_rss") or "_ms_" in key:
+        return HIGHER
+    if "_per_s" in key or "_fps" in key or "real_time_factor" in key:
+        return LOWER
+    return None
+
+
+def _number(value: object) -> float | None:
+    """``value`` as a float if it is a finite number (not a bool), else None."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return None
+    return float(value)
+
+
+def compare_results(new: Mapping[str, object], old: Mapping[str, object],
+                    threshold: float = COMPARE_THRESHOLD) -> list[Comparison]:
+    """Every key holding a finite number in both ``new`` and ``old`` (in ``new``'s order), with its ratio
+    new/old and a mark: ``"worse"`` when the ratio is beyond ``1 + threshold`` in the worse direction
+    (:func:`worse_when`; below ``1 - threshold`` for rates), ``"better"`` beyond it the other way. Keys
+    in one of them only, and keys of no direction, get no mark."""
+    rows = []
+    for key, value in new.items():
+        new_value, old_value = _number(value), _number(old.get(key))
+        if new_value is None or old_value is None:
+            continue
+        ratio = new_value / old_value if old_value != 0 else None
+        direction = worse_when(key)
+        mark = ""
+        if ratio is not None and direction is not None:
+            higher, lower = ratio > 1 + threshold, ratio < 1 - threshold
+            if higher or lower:
+                mark = "worse" if (higher if direction == HIGHER else lower) else "better"
+        rows.append(Comparison(key, new_value, old_value, ratio, direction, mark))
+    return rows
+
+
+_JSON_NAMES = {list: "an array", str: "a string", int: "a number", float: "a number", bool: "a boolean",
+               type(None): "null"}
+
+
+def read_bench_file(path: Path) -> dict:
+    """The results of a ``bench.json``: a regular file of at most :data:`MAX_BENCH_FILE_BYTES`, a JSON object
+    with at least one benchmark figure (a finite number under a key :func:`worse_when` knows);
+    :class:`BenchFileError` naming ``path`` otherwise."""
+    expected = "expected a bench.json of robotstadium bench, a JSON object with figures such as render_ms_median"
+    path = Path(path)
+    name = _shown(str(path))
+    raw = b""
+    try:
+        regular = path.is_file()
+        if regular:
+            with path.open("rb") as handle:
+                raw = handle.read(MAX_BENCH_FILE_BYTES + 1)
+    except OSError as error:  # a name too long, a permission
+        raise BenchFileError(f"{name}: {error.strerror or type(error).__name__}; {expected}") from None
+    if not regular:
+        raise BenchFileError(f"{name}: not an existing regular file; {expected}")
+    if len(raw) > MAX_BENCH_FILE_BYTES:
+        raise BenchFileError(f"{name}: more than {MAX_BENCH_FILE_BYTES} bytes; {expected}")
+    try:
+        results = json.loads(raw.decode("utf-8"))
+    except (ValueError, RecursionError) as error:  # not UTF-8, not JSON, nested too deep
+        raise BenchFileError(f"{name}: {describe_error(error)[:200]}; {expected}") from None
+    if not isinstance(results, dict):
+        raise BenchFileError(f"{name}: {_JSON_NAMES.get(type(results), 'a JSON value')}, not an object; {expected}")
+    if not any(worse_when(key) is not None and _number(value) is not None for key, value in results.items()):
+        raise BenchFileError(f"{name}: no benchmark figure; {expected}")
+    return results
+
+
+def _shown(text: str) -> str:
+    """``text`` as a message shows a path: at most 60 characters."""
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def write_comparison(out_dir: Path, rows: Sequence[Comparison], old_path: Path) -> Path:
+    """Write ``compare.json``: the file compared with, the threshold, every row, and the keys marked worse
+    and better."""
+    document = {
+        "old": str(old_path),
+        "threshold": COMPARE_THRESHOLD,
+        "rows": {row.key: {"new": row.new, "old": row.old, "ratio": row.ratio, "worse_when": row.worse_when,
+                           "mark": row.mark} for row in rows},
+        "worse": [row.key for row in rows if row.mark == "worse"],
+        "better": [row.key for row in rows if row.mark == "better"],
+    }
+    path = write_json(Path(out_dir) / COMPARE_FILE, document)
+    log.info("wrote %s", path)
+    return path
