@@ -15,7 +15,7 @@ from agents.team.agent import _arc
 from agents.team.messages import Role, TeamMessage
 from agents.vision.percepts import LandmarkPercept
 from match.protocol import Displacement, GoalColor, Pose2D
-from world.field import LandmarkKind
+from world.field import FIELD, LandmarkId, LandmarkKind
 
 STILL = Displacement(0.0, 0.0, 0.0)
 
@@ -132,31 +132,47 @@ class _FixedLocalizer:
 
 
 LINE_CORNER = LandmarkPercept(LandmarkKind.L_CORNER, (80.0, 90.0), 0.1, 1.5, "exact")
-GOAL_POST = LandmarkPercept(LandmarkKind.GOAL_POST, (80.0, 40.0), 0.2, 3.0, "exact", goal=GoalColor.YELLOW)
+TRACKED = Pose2D(-1.0, 0.5, 0.0)
+MIRRORED = Pose2D(1.0, -0.5, math.pi)  # the field's point reflection of TRACKED: only the goals' colours differ
 
 
-def test_a_far_fix_is_believed_only_when_several_agree_and_one_saw_a_goal() -> None:
+def seen_from(pose: Pose2D, landmark: LandmarkId) -> LandmarkPercept:
+    """The exact percept of ``landmark`` from ``pose`` (a post's side left unknown, as from afar)."""
+    mark = next(m for m in FIELD.landmarks if m.id is landmark)
+    bearing = math.atan2(mark.y - pose.y, mark.x - pose.x) - pose.theta
+    return LandmarkPercept(mark.kind, (80.0, 60.0), math.remainder(bearing, math.tau),
+                           math.hypot(mark.x - pose.x, mark.y - pose.y), "exact",
+                           goal=mark.goal if mark.kind in (LandmarkKind.GOAL_POST, LandmarkKind.GOAL_CENTER) else None)
+
+
+def test_a_far_fix_counts_only_when_its_frame_contradicts_the_tracked_pose() -> None:
     locator = SelfLocator("odometry", 0)
-    mirrored = Pose2D(1.0, -0.5, math.pi)
-    locator.localizer = stand_in = _FixedLocalizer(mirrored)
-    locator.reset(Pose2D(-1.0, 0.5, 0.0))
-    for _ in range(JUMP_CONFIRMATIONS + 3):  # lines alone repeat over the field: never enough
-        assert locator.update((LINE_CORNER,)) is None
-        assert locator.pose == Pose2D(-1.0, 0.5, 0.0)
+    locator.localizer = stand_in = _FixedLocalizer(MIRRORED)
+    locator.reset(TRACKED)
+    corner = seen_from(MIRRORED, LandmarkId.GOAL_AREA_CORNER_BLUE_LEFT)  # the tracked pose sees one there too
+    for _ in range(JUMP_CONFIRMATIONS + 3):  # lines alone repeat over the field: never evidence
+        assert locator.update((corner,)) is None
+        assert locator.pose == TRACKED
     assert stand_in.resets == 1  # the localizer is left to itself: if it keeps finding the far pose, it wins
     assert locator.sigma_m >= DOUBT_SIGMA_M  # meanwhile the robot doubts, and looks for landmarks
-    assert locator.update((LINE_CORNER, GOAL_POST)) is not None
-    assert locator.pose == mirrored and locator.rejected_fixes == JUMP_CONFIRMATIONS + 3
-
-
-def test_agreeing_far_fixes_with_a_goal_are_believed_after_enough_of_them() -> None:
-    locator = SelfLocator("odometry", 0)
-    mirrored = Pose2D(1.0, -0.5, math.pi)
-    locator.localizer = _FixedLocalizer(mirrored)
-    locator.reset(Pose2D(-1.0, 0.5, 0.0))
+    post = seen_from(MIRRORED, LandmarkId.BLUE_GOAL_LEFT_POST)  # where the tracked pose has the yellow goal
     for _ in range(JUMP_CONFIRMATIONS - 1):
-        assert locator.update((GOAL_POST,)) is None
-    assert locator.update((GOAL_POST,)) is not None and locator.pose == mirrored
+        assert locator.update((corner, post)) is None
+    assert locator.update((post,)) is not None and locator.pose == MIRRORED
+    assert locator.rejected_fixes == JUMP_CONFIRMATIONS + 3 + JUMP_CONFIRMATIONS - 1
+
+
+def test_agreeing_far_fixes_need_a_goal() -> None:
+    locator = SelfLocator("odometry", 0)
+    far = Pose2D(-1.0, -1.5, 0.0)  # 2 m to the side: the same lines in view
+    locator.localizer = _FixedLocalizer(far)
+    locator.reset(TRACKED)
+    corner = seen_from(far, LandmarkId.GOAL_AREA_CORNER_YELLOW_RIGHT)
+    circle = seen_from(far, LandmarkId.CENTER_CIRCLE)
+    for _ in range(JUMP_CONFIRMATIONS + 3):  # evidence, but from lines alone
+        assert locator.update((corner, circle)) is None and locator.pose == TRACKED
+    post = seen_from(far, LandmarkId.YELLOW_GOAL_RIGHT_POST)
+    assert locator.update((corner, circle, post)) is not None and locator.pose == far
 
 
 def test_after_a_fall_a_fix_may_turn_the_heading_at_once() -> None:

@@ -14,7 +14,12 @@ as well as the true one. Such a fix is believed when :data:`JUMP_CONFIRMATIONS` 
 row agree on it (the robot really was moved: the localizer, left to itself, keeps finding
 it) and one of their frames showed a goal (the field's lines alone repeat: a few of them fit
 a pose 2 m to the side as well); meanwhile the pose's sigma is raised to at least
-:data:`DOUBT_SIGMA_M`, so that the robot looks for landmarks (it glances at a goal).
+:data:`DOUBT_SIGMA_M`, so that the robot looks for landmarks (it glances at a goal). Only a
+far fix whose frame the tracked pose explains clearly worse (by :data:`JUMP_EVIDENCE_NATS`,
+in the particle filters' measurement model) counts towards a jump: near a goal, one of its
+posts fits a mirrored pose as well as the true one, and six such frames in a row once moved
+a robot 3 m off for 30 s (replaying the self-locator's inputs of six self-play matches, the
+field players' time over 0.5 m off fell from 5.0% to 2.9% in that match, and nowhere rose).
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ import numpy as np
 
 from agents.localization import PoseEstimate, localizer
 from agents.localization.estimate import EstimateSource
+from agents.localization.measurement import MeasurementConfig, ScanLikelihood
 from agents.localization.odometry import compose
 from agents.modelling.spread import largest_eigenvalue
 from agents.vision.percepts import LandmarkPercept
@@ -60,6 +66,7 @@ JUMP_CONFIRMATIONS = 6  # ... believed when this many fixes in a row agree on it
 AGREE_M = 0.4  # ... within these of the last one
 AGREE_RAD = math.radians(30.0)
 DOUBT_SIGMA_M = 0.3  # a rejected far fix raises the position sigma to this
+JUMP_EVIDENCE_NATS = 2.0  # a far fix counts towards a jump only if its frame fits it this much better than the tracked pose
 
 
 @runtime_checkable
@@ -133,7 +140,7 @@ class SelfLocator:
         estimate = self.localizer.localize(percepts)
         if estimate is None or estimate.source is EstimateSource.ODOMETER:
             return None
-        if not self._believe(estimate.pose, any(p.goal is not None for p in percepts)):
+        if not self._believe(estimate.pose, percepts):
             self.rejected_fixes += 1
             self.sigma_m = max(self.sigma_m, DOUBT_SIGMA_M)
             return None
@@ -148,14 +155,19 @@ class SelfLocator:
         self.sigma_m, self.sigma_rad = max(sigma_m, MIN_SIGMA_M), max(sigma_rad, MIN_SIGMA_RAD)
         return estimate
 
-    def _believe(self, fix: Pose2D, saw_goal: bool) -> bool:
-        """Whether a fix is taken: near the tracked pose, or the last of enough far fixes that agree,
-        one of which saw a goal (``saw_goal``: this fix's percepts include a goal's)."""
+    def _believe(self, fix: Pose2D, percepts: Sequence[LandmarkPercept]) -> bool:
+        """Whether a fix of ``percepts`` is taken: near the tracked pose, or the last of enough far fixes
+        that agree, one of which saw a goal. A far fix whose frame the tracked pose explains about as
+        well (within :data:`JUMP_EVIDENCE_NATS`) is no evidence that the robot is elsewhere: a goal's
+        post or two fit a mirrored pose too. It is not believed and does not count."""
         tracked = self._tracked
         if tracked is None or _near(fix, tracked, max(GATE_M, 3.0 * self.sigma_m), max(GATE_RAD, 3.0 * self.sigma_rad)):
             self._candidates.clear()
             self._candidates_saw_goal = False
             return True
+        if _log_likelihood_ratio(percepts, fix, tracked) < JUMP_EVIDENCE_NATS:
+            return False
+        saw_goal = any(p.goal is not None for p in percepts)
         if self._candidates and not _near(fix, self._candidates[-1], AGREE_M, AGREE_RAD):
             self._candidates.clear()
             self._candidates_saw_goal = False
@@ -176,6 +188,17 @@ class SelfLocator:
                 self.localizer.move(moved)
             if self._tracked is not None:
                 self._tracked = compose(self._tracked, moved)
+
+
+def _log_likelihood_ratio(percepts: Sequence[LandmarkPercept], a: Pose2D, b: Pose2D) -> float:
+    """How much better (nats) the percepts of one frame fit pose ``a`` than pose ``b`` (the measurement
+    model of the particle filters: each percept its most likely landmark, mixed with outliers)."""
+    scan = ScanLikelihood(percepts, _MEASUREMENT)
+    ll = scan.log_likelihood(np.array([a.x, b.x]), np.array([a.y, b.y]), np.array([a.theta, b.theta]))
+    return float(ll[0] - ll[1])
+
+
+_MEASUREMENT = MeasurementConfig()
 
 
 def _near(a: Pose2D, b: Pose2D, within_m: float, within_rad: float) -> bool:
