@@ -44,6 +44,7 @@ from typing import Any
 from agents.behavior import paths, skills
 from agents.behavior.aim import kick_aim
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.obstacle_model import ObstacleModel
 from agents.modelling.self_locator import SelfLocator
@@ -129,6 +130,7 @@ class TeamAgent:
         self.locator = SelfLocator(self.method, seed)
         self.ball = BallModel()
         self.obstacles = ObstacleModel()
+        self.unjam = Unjammer(DT_S)
         self.team = TeamModel(self.player)
         self.role = Role.NONE
         self.intention = Intention.NONE
@@ -182,6 +184,9 @@ class TeamAgent:
         motion, walk, head = self._decide(obs, busy)
         if motion is Motion.WALK and self.avoid_obstacles and not self._contesting():
             walk = paths.steer_around(walk, self.obstacles.obstacles())
+        escape = self.unjam.escape(obs.sonar_m) if motion is Motion.WALK else None
+        if escape is not None:  # a turn that does not turn: locked with another robot
+            walk = escape
         self._walk = walk if motion is Motion.WALK else skills.STILL
         radio = self._message(obs).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
         camera = CameraChoice.of(self._camera) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
@@ -198,6 +203,10 @@ class TeamAgent:
         upright = (not obs.fallen and not (obs.motion is not None and obs.motion.is_stand_up)
                    and self._acceleration_z > UPRIGHT_ACCELERATION_MPS2)
         omega = obs.gyro_radps[2] if upright else 0.0
+        if upright:
+            self.unjam.observe(self._walk[2] if walking else 0.0, omega)
+        else:
+            self.unjam.reset()
         moved = _arc(vx, vy, omega, DT_S)
         self.locator.move(moved)
         self.ball.predict(DT_S, moved)
