@@ -67,7 +67,7 @@ JUMP_CONFIRMATIONS = 6  # ... believed when this many fixes in a row agree on it
 AGREE_M = 0.4  # ... within these of the last one
 AGREE_RAD = math.radians(30.0)
 DOUBT_SIGMA_M = 0.3  # a rejected far fix raises the position sigma to this
-JUMP_EVIDENCE_NATS = 2.0  # a far fix counts towards a jump only if its frame fits it this much better than the tracked pose
+JUMP_EVIDENCE_NATS = 2.0  # ours: a far fix counts towards a jump only if its frame fits it this much better
 
 
 @runtime_checkable
