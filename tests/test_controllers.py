@@ -112,6 +112,26 @@ def test_a_controller_starts_on_its_robots_observations_before_the_step_is_decid
     assert not away.busy and away.process is None
 
 
+def test_images_reach_the_controller_processes_as_they_were_rendered() -> None:
+    """Images travel in shared memory: each step's reach the policies unchanged, and an image of another shape
+    travels in the message itself."""
+    factories = {agent: functools.partial(make_policy, "tests.user_policies:ImageProbe")
+                 for agent in ("home_0", "home_1", "away_0")}
+    rng = np.random.default_rng(7)
+    with ProcessControllers(factories, ControllerLimits(group="team", step_budget_s=30.0)) as controllers:
+        controllers.start(dict.fromkeys(factories, 0))
+        for _ in range(3):
+            images = {agent: rng.integers(0, 256, (120, 160, 3), dtype=np.uint8) for agent in factories}
+            images["away_0"] = images["away_0"][:60]  # another shape: sent in the message
+            for agent in factories:
+                controllers.offer(agent, {"image": images[agent]})
+            decision = controllers.decide({agent: {"image": images[agent]} for agent in factories})
+            assert not decision.faults
+            for agent, image in images.items():
+                expected = (image.flat[0] / 10.0, int(image.sum()) % 1000 / 100.0, float(image.shape[0]))
+                assert decision.estimates[agent] == expected, agent
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="peak memory is read from /proc")
 def test_peak_resident_memory_of_the_live_controller_processes() -> None:
     factories = {agent: functools.partial(make_policy, "stand") for agent in ("home_0", "away_0")}

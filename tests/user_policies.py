@@ -98,6 +98,23 @@ class Counted(Spinner):
         return (float(self.steps % 100) / 100.0, 0.0, 0.0)  # counts the acts, for the log
 
 
+class ImageProbe(Spinner):
+    """Stands; reports what the image of its last observation showed, as a pose estimate (for the tests):
+    its first byte / 10, the sum of its bytes modulo 1000 / 100, and its height in pixels."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        super().reset(agent_id, seed)
+        self.seen = (0.0, 0.0, 0.0)
+
+    def act(self, observation: dict) -> dict:
+        image = np.asarray(observation["image"])
+        self.seen = (image.flat[0] / 10.0, int(image.sum()) % 1000 / 100.0, float(image.shape[0]))
+        return make_action(Motion.STAND, camera=CameraChoice.TOP)
+
+    def pose_estimate(self) -> tuple[float, float, float]:
+        return self.seen
+
+
 class Misbehaves(Spinner):
     """Each act, in turn: raises, raises SystemExit, returns garbage, returns an Action with a bad field
     (a head beyond its joint limits), returns a walk past the walk limits; reports a pose of two numbers."""
