@@ -79,13 +79,15 @@ class StepResult:
 class Match:
     """A match between two teams of 1-4 robots. Build once, :meth:`reset` for every new match."""
 
-    def __init__(self, config: MatchConfig | None = None, *, gui: bool = False):
+    def __init__(self, config: MatchConfig | None = None, *, gui: bool = False, render_workers: int = 0):
+        """``render_workers``: processes that draw some of each step's camera frames while this one draws the
+        others (:mod:`world.render_workers`; the same images, sooner on more than one core)."""
         self.config = config or MatchConfig()
         self.agents: tuple[AgentId, ...] = self.config.agents
         self.agent_names: tuple[str, ...] = tuple(str(a) for a in self.agents)
         self._by_name = dict(zip(self.agent_names, self.agents))
         specs = [RobotSpec(str(a), TeamColor.BLUE if a.side is Side.HOME else TeamColor.RED) for a in self.agents]
-        self.world = World(specs, self.config.world, gui=gui)
+        self.world = World(specs, self.config.world, gui=gui, render_workers=render_workers)
         self.referee = Referee(self.world, self.agents, self.config.referee)
         self.radio = Radio(self.agents, self.config.radio, self.config.world.physics.control_step_s)
         self.step_index = 0
@@ -230,11 +232,9 @@ class Match:
         broadcast = free_play_control(self.world.time_s) if self.free_play else self.referee.broadcast
         views: dict[Side, GameControlView] = {side: broadcast.view_for(side) for side in Side}
         observations = {}
-        # robots whose camera is off first: their observations are ready before any frame is rendered
-        for agent in sorted(self.agents, key=lambda a: self._cameras[a] is not CameraChoice.OFF):
-            robot = str(agent)
-            camera_on = self._cameras[agent] is not CameraChoice.OFF
-            image = self.world.render_camera(robot) if camera_on else None
+
+        def built(robot: str, image: np.ndarray | None) -> None:
+            agent = self._by_name[robot]
             observations[robot] = build_observation(
                 readings[robot],
                 image,
@@ -243,7 +243,15 @@ class Match:
             )
             if observed is not None:
                 observed(robot, observations[robot])
-        return {str(agent): observations[str(agent)] for agent in self.agents}
+
+        # robots whose camera is off first: their observations are ready before any frame is rendered
+        seeing = [str(agent) for agent in self.agents if self._cameras[agent] is not CameraChoice.OFF]
+        for robot in self.agent_names:
+            if robot not in seeing:
+                built(robot, None)
+        for robot, image in self.world.render_cameras(seeing):
+            built(robot, image)
+        return {robot: observations[robot] for robot in self.agent_names}
 
     # ---- ground truth (evaluation only) -------------------------------------------------
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import copy
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +19,7 @@ import pybullet as pb
 
 from world import rendering
 from world.ball import BallState, build_ball
-from world.camera_model import CameraPosition
+from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RobotSpec, WorldConfig
 from world.errors import InvalidCommandError, InvalidPoseError, JointLimitError, UnknownRobotError
 from world.field import Pose2D
@@ -27,6 +27,7 @@ from world.ground import GroundRenderer
 from world.gaits import STANDING
 from world.locomotion import LocomotionController, MotionStatus, head_limits_check, torso_heading
 from world.motions import Motion
+from world.render_workers import BodyPoses, RenderWorker, RenderWorkerError
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
 from world.scene import SceneBodies, build_scene
 from world.static_scene import StaticScene
@@ -35,6 +36,7 @@ from world.sensors import GRAVITY_MPS2, SensorReading, bumpers, head_angles, son
 log = logging.getLogger(__name__)
 
 MAX_ROBOTS = 8
+MAX_RENDER_WORKERS = 4
 
 
 @dataclass(frozen=True)
@@ -70,6 +72,8 @@ class World:
     ``robots`` fixes the roster for the world's life (the scene is built once; reset
     restores a saved state). ``seed`` seeds the generator of motion noise; pass a
     ``numpy.random.Generator`` to :meth:`reset` to share a match's generator.
+    ``render_workers``: processes with a render-only copy of the world that draw some of the
+    frames of :meth:`render_cameras` (:mod:`world.render_workers`); :meth:`close` stops them.
     """
 
     def __init__(
@@ -79,8 +83,14 @@ class World:
         *,
         gui: bool = False,
         seed: int = 0,
+        render_workers: int = 0,
     ):
         self.config = config or WorldConfig()
+        if type(render_workers) is not int or not 0 <= render_workers <= MAX_RENDER_WORKERS:
+            raise ValueError(f"render_workers = {render_workers!r}; expected an integer 0-{MAX_RENDER_WORKERS}")
+        if gui and render_workers:
+            raise ValueError("render_workers with gui: the window's world draws its hall with TinyRenderer, "
+                             "the workers' do not; expected render_workers = 0")
         ids = [spec.robot_id for spec in robots]
         if len(ids) > MAX_ROBOTS or len(set(ids)) != len(ids):
             raise ValueError(f"robots must be at most {MAX_ROBOTS} with unique ids; got {ids}")
@@ -96,6 +106,7 @@ class World:
         self.rng = np.random.default_rng(seed)
         self._draw_imu_bias()
         self._initial = self.save_state()
+        self._render_workers = [RenderWorker(robots, self.config, slots=len(robots)) for _ in range(render_workers)]
 
     # ---- construction ---------------------------------------------------------------
 
@@ -124,6 +135,9 @@ class World:
         self.scene: SceneBodies = build_scene(client, cfg.field)
         self._ground_ids = (self.scene.ground, self.scene.carpet)
         self._robot_of_body = {body: rid for rid, body in self._bodies.items()}
+        self._movable_joints = {body: [j for j in range(pb.getNumJoints(body, physicsClientId=client))
+                                       if pb.getJointInfo(body, j, physicsClientId=client)[2] != pb.JOINT_FIXED]
+                                for body in self._bodies.values()}
         # Sleeping bodies are not part of a saved state; a world that restores must not sleep.
         for body in (self._ball, *self._bodies.values()):
             pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=client)
@@ -245,6 +259,7 @@ class World:
     def close(self) -> None:
         if not self._closed:
             self._closed = True
+            self._stop_render_workers()
             if getattr(self, "_static", None) is not None:
                 self._static.close()
             pb.disconnect(physicsClientId=self._client)
@@ -370,6 +385,83 @@ class World:
             self._client, controller.body, controller.camera, self.config.render, self._ground
         )
 
+    def render_cameras(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
+        """Each robot's camera image (as :meth:`render_camera`), as ``(robot_id, image)`` pairs in a fixed order.
+
+        With render workers the first robots' frames are drawn by the workers while this
+        process draws the last ones, which come first; then the workers', in ``robot_ids``
+        order. A worker that fails is stopped, with the others, and its frames drawn here.
+        """
+        ids = [self._check_robot(rid) for rid in robot_ids]
+        if not self._render_workers or len(ids) < 2:
+            yield from self._render_here(ids)
+            return
+        shares = _shares(ids, len(self._render_workers) + 1)
+        asked = []
+        try:
+            poses = self.body_poses()
+            for worker, share in zip(self._render_workers, shares):
+                if share:
+                    worker.submit(poses, [self.camera_pose(rid) for rid in share])
+                    asked.append((worker, share))
+        except RenderWorkerError as error:
+            self._render_worker_failed(error)
+            yield from self._render_here(ids)
+            return
+        yield from self._render_here(shares[-1])
+        for i, (worker, share) in enumerate(asked):
+            try:
+                frames = worker.collect()
+            except RenderWorkerError as error:
+                self._render_worker_failed(error)
+                yield from self._render_here([rid for _, rest in asked[i:] for rid in rest])
+                return
+            yield from zip(share, frames)
+
+    def render_camera_at(self, rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
+        """The 160x120 RGB image of a robot camera at a pose (rotation camera->world, position m)."""
+        cam = NAO_CAMERA
+        return rendering.render(self._client, np.asarray(rotation, float), np.asarray(position, float),
+                                cam.width_px, cam.height_px, cam.vertical_fov_rad, self.config.render, self._ground)
+
+    def _render_here(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
+        for rid in robot_ids:
+            yield rid, self.render_camera(rid)
+
+    def _render_worker_failed(self, error: RenderWorkerError) -> None:
+        log.warning("render worker failed (%s); drawing every camera frame in this process from now on", error)
+        self._stop_render_workers()
+
+    def _stop_render_workers(self) -> None:
+        for worker in getattr(self, "_render_workers", ()):
+            worker.close()
+        self._render_workers = []
+
+    def body_poses(self) -> BodyPoses:
+        """Every robot's base pose and joint angles, the ball's pose and the team colours (see :class:`BodyPoses`)."""
+        client, robots = self._client, []
+        for rid, body in self._bodies.items():
+            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+            joints = self._movable_joints[body]
+            angles = tuple(state[0] for state in pb.getJointStates(body, joints, physicsClientId=client))
+            robots.append((position, orientation, angles))
+        ball = pb.getBasePositionAndOrientation(self._ball, physicsClientId=client)
+        return BodyPoses(tuple(robots), ball, tuple(self._teams[rid] for rid in self._bodies))
+
+    def set_body_poses(self, poses: BodyPoses) -> None:
+        """Put every body where ``poses`` says, at rest (for a render-only copy of a world: no physics is kept)."""
+        client = self._client
+        if len(poses.robots) != len(self._bodies) or len(poses.teams) != len(self._bodies):
+            raise ValueError(f"poses of {len(poses.robots)} robots for a world of {len(self._bodies)}")
+        for (rid, body), (position, orientation, angles), team in zip(self._bodies.items(), poses.robots, poses.teams):
+            pb.resetBasePositionAndOrientation(body, position, orientation, physicsClientId=client)
+            joints = self._movable_joints[body]
+            pb.resetJointStatesMultiDof(body, joints, [[angle] for angle in angles], [[0.0]] * len(joints),
+                                        physicsClientId=client)
+            if self._teams[rid] is not team:
+                self.set_team_color(rid, team)
+        pb.resetBasePositionAndOrientation(self._ball, *poses.ball, physicsClientId=client)
+
     def sensors(self, robot_id: str) -> SensorReading:
         return self.sensors_all((robot_id,))[robot_id]
 
@@ -467,3 +559,10 @@ class World:
     def _reset_joints(self, body: int) -> None:
         for joint in ACTUATED_JOINTS:
             pb.resetJointState(body, int(joint), STANDING.get(joint, 0.0), 0.0, physicsClientId=self._client)
+
+
+def _shares(robot_ids: list[str], parts: int) -> list[list[str]]:
+    """``robot_ids`` cut into ``parts`` runs of sizes as equal as may be, the last ones the larger."""
+    sizes = [len(robot_ids) // parts + (1 if i >= parts - len(robot_ids) % parts else 0) for i in range(parts)]
+    starts = np.cumsum([0, *sizes])
+    return [robot_ids[starts[i]:starts[i + 1]] for i in range(parts)]

@@ -297,7 +297,7 @@ def bench_broadcast(repeats: int) -> dict[str, float]:
 
 def bench_match(repeats: int) -> dict[str, float]:
     """Simulated seconds per wall second of an 8-robot match with the default policies in their default
-    controller processes, as the match command plays it (``2 * repeats`` control steps from the kick-off),
+    controller processes and the default render workers, as the match command plays it (``2 * repeats`` control steps from the kick-off),
     and its peak resident memory (MiB).
 
     The match is played in a fresh process (``spawn``), so ``peak_rss_simulator_mb`` is the peak of a
@@ -319,10 +319,11 @@ def play_bench_match(repeats: int) -> dict[str, float]:
     from match.game import Match
     from match.runner import run_match
     from scenarios.matches.play import Lineup, match_config
+    from world.render_workers import default_render_workers
 
     config = match_config()
     config = replace(config, referee=replace(config.referee, **QUICK_START))
-    match = Match(config)
+    match = Match(config, render_workers=default_render_workers())
     try:
         controllers = Lineup().controllers(match.agents, ControllerLimits())
         assert isinstance(controllers, ProcessControllers)  # limits given: controller processes
@@ -384,6 +385,7 @@ def bench_agent(repeats: int) -> dict[str, float]:
     from agents.team.agent import TeamAgent
     from match.game import Match
     from scenarios.matches.play import Lineup, match_config
+    from world.render_workers import default_render_workers
 
     config = match_config()
     config = replace(config, referee=replace(config.referee, **QUICK_START))
