@@ -58,6 +58,7 @@ from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, check_pose
 from match.protocol.spaces import IMAGE_SHAPE
 from match.reports import ReportReader
+from world.process_memory import peak_resident_mb
 
 log = logging.getLogger(__name__)
 
@@ -256,7 +257,7 @@ class ProcessControllers:
         Read it before :meth:`close` (:func:`~match.runner.run_match` closes the controllers when the run
         ends); a restarted controller's earlier processes are not counted.
         """
-        peaks = [_peak_resident_mb(c.process.pid) for c in self._controllers if c.process is not None]
+        peaks = [peak_resident_mb(c.process.pid) for c in self._controllers if c.process is not None]
         known = [peak for peak in peaks if peak is not None]
         return sum(known) if known else None
 
@@ -624,17 +625,3 @@ def _resident_mb(pid: int) -> float | None:
     except (OSError, ValueError, IndexError):
         return None
     return pages * PAGE_BYTES / 2**20
-
-
-def _peak_resident_mb(pid: int) -> float | None:
-    """Peak resident memory of process ``pid`` since it started, in MiB (Linux's ``VmHWM``), None where the
-    system does not say."""
-    try:
-        with open(f"/proc/{pid}/status", encoding="ascii", errors="replace") as status:
-            for line in status:
-                if line.startswith("VmHWM:"):
-                    value, unit = line.split()[1:3]
-                    return int(value) / 1024 if unit == "kB" else None
-    except (OSError, ValueError):
-        return None
-    return None

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -117,8 +118,10 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
     assert results["env_steps_per_s_cameras_off"] > results["env_steps_per_s"]  # no frames to render
     if sys.platform.startswith("linux"):
         simulator, controllers = results["peak_rss_simulator_mb"], results["peak_rss_controllers_mb"]
+        render_workers = results["peak_rss_render_workers_mb"]
         assert simulator > 20.0 and controllers > 20.0, (simulator, controllers)
-        assert results["peak_rss_mb"] == pytest.approx(simulator + controllers)
+        assert render_workers > 20.0 if (os.cpu_count() or 1) >= 2 else render_workers == 0.0, render_workers
+        assert results["peak_rss_mb"] == pytest.approx(simulator + controllers + render_workers)
     assert results["repeats"] == QUICK_REPEATS
     machine = results["machine"]
     assert machine["cpu_count"] >= 1 and machine["pybullet_api_version"] > 0 and machine["python"]

@@ -48,6 +48,18 @@ def test_a_render_worker_draws_the_frames_the_world_draws() -> None:
         assert world._render_workers  # the worker never failed
 
 
+def test_frames_left_uncollected_do_not_mix_with_the_next_ones() -> None:
+    with World(ROBOTS, render_workers=1) as world:
+        _scatter(world, 2)
+        robots = list(world.robot_ids)
+        world.step()
+        next(world.render_cameras(robots))  # the caller stops after the first frame: the worker's are not read
+        world.step()
+        frames = dict(world.render_cameras(robots))
+        for robot in robots:
+            assert np.array_equal(frames[robot], world.render_camera(robot)), robot
+
+
 def test_a_render_worker_that_dies_is_replaced_by_the_world_itself(caplog: pytest.LogCaptureFixture) -> None:
     with World(ROBOTS, render_workers=1) as world:
         _scatter(world, 1)

@@ -29,6 +29,7 @@ import numpy as np
 
 from world.camera_model import NAO_CAMERA
 from world.config import RobotSpec, WorldConfig
+from world.process_memory import peak_resident_mb
 from world.robot_model import TeamColor
 
 log = logging.getLogger(__name__)
@@ -84,6 +85,11 @@ class RenderWorker:
         self._ready = False
         self._asked = 0
 
+    def peak_resident_mb(self) -> float | None:
+        """The process's peak resident memory since it started (MiB), None where the system does not say or
+        it has stopped."""
+        return None if self._process is None else peak_resident_mb(self._process.pid)
+
     @property
     def slots(self) -> int:
         """How many frames one batch can hold."""
@@ -96,11 +102,15 @@ class RenderWorker:
         if not self._ready:
             self._expect("ready", START_TIMEOUT_S)
             self._ready = True
+        if self._asked:  # a batch nobody collected (its caller stopped early): its answer comes first
+            self.collect()
         self._send(("render", poses, [(np.asarray(r, float), np.asarray(p, float)) for r, p in cameras]))
         self._asked = len(cameras)
 
     def collect(self) -> list[np.ndarray]:
         """The frames of the last :meth:`submit`, in its order (copies, RGB (h, w, 3) uint8)."""
+        if not self._asked:
+            raise RenderWorkerError("no frames were asked of the render worker")
         self._expect("done", RENDER_TIMEOUT_S)
         frames = [self._frames[i].copy() for i in range(self._asked)]
         self._asked = 0

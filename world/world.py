@@ -424,6 +424,12 @@ class World:
         return rendering.render(self._client, np.asarray(rotation, float), np.asarray(position, float),
                                 cam.width_px, cam.height_px, cam.vertical_fov_rad, self.config.render, self._ground)
 
+    def render_workers_peak_mb(self) -> float | None:
+        """The render workers' peak resident memory (MiB), summed; None without workers or where the system
+        does not say."""
+        peaks = [peak for peak in (w.peak_resident_mb() for w in self._render_workers) if peak is not None]
+        return sum(peaks) if peaks else None
+
     def _render_here(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
         for rid in robot_ids:
             yield rid, self.render_camera(rid)

@@ -297,14 +297,15 @@ def bench_broadcast(repeats: int) -> dict[str, float]:
 
 def bench_match(repeats: int) -> dict[str, float]:
     """Simulated seconds per wall second of an 8-robot match with the default policies in their default
-    controller processes and the default render workers, as the match command plays it (``2 * repeats`` control steps from the kick-off),
-    and its peak resident memory (MiB).
+    controller processes and render workers, as the match command plays it (``2 * repeats`` control
+    steps from the kick-off), and its peak resident memory (MiB).
 
     The match is played in a fresh process (``spawn``), so ``peak_rss_simulator_mb`` is the peak of a
     simulator process that played only this match (interpreter, imports, world, match), not of the
-    benchmarks before it. ``peak_rss_controllers_mb`` sums the controller processes' peaks, read just before
-    the run closes them; ``peak_rss_mb`` is the sum of both. The memory keys are left out where the system
-    does not report them (Linux does).
+    benchmarks before it. ``peak_rss_controllers_mb`` sums the controller processes' peaks and
+    ``peak_rss_render_workers_mb`` the render workers' (0 without one), read just before the run closes
+    them; ``peak_rss_mb`` is the sum of the three. The memory keys are left out where the system does
+    not report them (Linux does).
     """
     with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
         metrics = pool.submit(play_bench_match, repeats).result()
@@ -334,22 +335,25 @@ def play_bench_match(repeats: int) -> dict[str, float]:
     metrics: dict[str, float] = {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
     simulator_mb = own_peak_resident_mb()
     if simulator_mb is not None and stop.controllers_peak_mb is not None:
-        metrics.update(peak_rss_mb=simulator_mb + stop.controllers_peak_mb, peak_rss_simulator_mb=simulator_mb,
-                       peak_rss_controllers_mb=stop.controllers_peak_mb)
+        render_workers_mb = stop.render_workers_peak_mb or 0.0
+        metrics.update(peak_rss_mb=simulator_mb + stop.controllers_peak_mb + render_workers_mb,
+                       peak_rss_simulator_mb=simulator_mb, peak_rss_controllers_mb=stop.controllers_peak_mb,
+                       peak_rss_render_workers_mb=render_workers_mb)
     else:
         log.warning("match benchmark: this system does not report peak memory; no peak_rss keys")
     return metrics
 
 
 class _StopAfter:
-    """A match observer that ends the run after ``steps`` steps, reading the controller processes' peak
-    resident memory (MiB) first: the run closes them when it ends."""
+    """A match observer that ends the run after ``steps`` steps, reading the controller processes' and the
+    render workers' peak resident memory (MiB) first: the run closes them when it ends."""
 
     def __init__(self, steps: int, controllers: ProcessControllers):
         self.steps = steps
         self.controllers = controllers
         self.played = 0
         self.controllers_peak_mb: float | None = None
+        self.render_workers_peak_mb: float | None = None
 
     def decided(self, match: Match, actions: Mapping[str, object]) -> None:
         self.played += 1
@@ -358,6 +362,7 @@ class _StopAfter:
         if self.played < self.steps:
             return False
         self.controllers_peak_mb = self.controllers.peak_resident_mb()
+        self.render_workers_peak_mb = match.world.render_workers_peak_mb()
         return True
 
 
