@@ -11,24 +11,23 @@ kinds give the same decisions for policies that behave:
   robot's controller as a program of its own: one process per robot or per team
   (:attr:`ControllerLimits.group`), started from a clean server process (``forkserver``
   where there is one, else ``spawn``), so a controller cannot reach the simulator's objects.
-  Observations go out and actions come back over pipes, the camera images through shared
-  memory (:class:`_ImageSlots`); the processes of one step work in parallel, each asked as
-  soon as its robots' observations are built (the runner offers each one as the match builds
-  it: the home team's controller acts while the away team's cameras are rendered). A
-  controller that has not answered within the step budget
+  Observations go out and actions come back over pipes; the processes of one step work in
+  parallel, each asked as soon as its robots' observations are built (the runner offers each
+  one as the match builds it: the home team's controller acts while the away team's cameras
+  are rendered). A controller that has not answered within the step budget
   (:attr:`ControllerLimits.step_budget_s`) gets its robots a stand for that step and a
   fault; while it is still busy its robots stand, and its late answer is dropped. It is then
-  on probation: steps no longer wait for it (its answer counts when it comes while the
-  others are awaited), so a slow controller cannot slow the match, and every late answer
-  over the budget is a fault with the time it took; :data:`PROBATION_ANSWERS` answers within
-  the budget in a row end the probation. One still busy :attr:`ControllerLimits.hang_s`
-  after its deadline, one that dies and one whose resident memory passes
+  on probation: steps no longer wait for it (its answer counts when it comes while the others
+  are awaited), so a slow controller cannot slow the match, and every late answer over the
+  budget is a fault with the time it took; :data:`PROBATION_ANSWERS` answers within the
+  budget in a row end the probation. One still busy :attr:`ControllerLimits.hang_s` after
+  its deadline, one that dies and one whose resident memory passes
   :attr:`ControllerLimits.memory_mb` is stopped, recorded, and restarted on probation (built
   and reset again with the same seeds); its robots stand until it is back. One that fails
   before it was ready (its build or reset ends its process) or after :data:`MAX_RESTARTS`
-  restarts stays stopped: its robots stand for the rest of the match. Only controllers that
-  break their budget make a run depend on timing: for all others, process and in-process
-  runs are the same, byte for byte.
+  restarts stays stopped: its robots stand for the rest of the match. Only controllers
+  that break their budget make a run depend on timing: for all others, process and
+  in-process runs are the same, byte for byte.
 
 A fault is anything a policy raises (every ``BaseException`` but ``KeyboardInterrupt``:
 ``SystemExit`` and ``os._exit`` in a controller process included), an action that fails the
@@ -39,7 +38,6 @@ above. Reports that fail their checks are not faults: the log records nothing fo
 
 from __future__ import annotations
 
-import ctypes
 import logging
 import multiprocessing
 import os
@@ -51,12 +49,9 @@ from dataclasses import dataclass, field
 from multiprocessing.connection import Connection, wait
 from typing import Any, Protocol
 
-import numpy as np
-
 from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, check_pose
-from match.protocol.spaces import IMAGE_SHAPE
 from match.reports import ReportReader
 from world.process_memory import peak_resident_mb
 
@@ -339,13 +334,11 @@ class _Controller:
         self.probation = False  # missed a deadline: steps do not wait for it (see ProcessControllers)
         self.answers_in_budget = 0  # on probation: answers within the budget in a row
         self.restarts = 0  # in this match
-        self.images = _ImageSlots(context, len(self.agents))
 
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
         parent, child = self._context.Pipe()
-        self.process = self._context.Process(target=serve, args=(child, self.factories, self.images.buffer),
-                                             daemon=True,
+        self.process = self._context.Process(target=serve, args=(child, self.factories), daemon=True,
                                              name=f"controller {','.join(self.agents)}")
         try:
             self.process.start()
@@ -363,7 +356,7 @@ class _Controller:
         self.closed_step = False
         self.busy = True
         self.asked_at = time.perf_counter()
-        return self._send(("act", self.sequence, self.images.put(self.agents, observations)))
+        return self._send(("act", self.sequence, observations))
 
     def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
         """Read one message (an answer, a late answer, a reset's answer) or the process's death."""
@@ -489,13 +482,9 @@ class _Controller:
 # ---- the controller process ---------------------------------------------------------------
 
 
-def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer) -> None:
-    """A controller process's loop: build the policies, then answer resets and steps until told to close.
-
-    ``image_buffer``: the shared memory of :class:`_ImageSlots`, where the images of its robots'
-    observations come."""
+def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
+    """A controller process's loop: build the policies, then answer resets and steps until told to close."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the simulator's to handle
-    slots = _ImageSlots.view(image_buffer)
     policies: dict[str, Policy] = {}
     broken: dict[str, str] = {}
     for agent, factory in factories.items():
@@ -519,65 +508,10 @@ def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer
             conn.send(("reset", reader.estimates(), reader.reports(), faults))
             continue
         _, sequence, observations = message
-        actions, faults = _act_all(policies, _ImageSlots.take(slots, observations))
+        actions, faults = _act_all(policies, observations)
         faults += [PolicyFault(a, broken[a]) for a in broken if a in observations]
         faults_sent = [(f.agent, f.error, f.where) for f in faults]
         conn.send(("act", sequence, actions, reader.estimates(), reader.reports(), faults_sent))
-
-
-@dataclass(frozen=True)
-class _SharedImage:
-    """Stands in an observation sent to a controller process for its image, which is in image slot ``slot``."""
-
-    slot: int
-
-
-class _ImageSlots:
-    """Shared memory for the camera images of one controller's robots: slot ``i`` holds the image
-    (:data:`~match.protocol.spaces.IMAGE_SHAPE`, uint8) of its ``i``-th robot.
-
-    A picture of 57.6 kB pickled and pushed through a pipe cost the simulator more than the
-    copy into a slot does. The simulator's side writes a slot only when it asks the
-    controller, which is idle then (a busy controller is not asked), and the controller copies
-    its images out before its policies act, so neither side sees one change under it. The
-    buffer is a shared ctypes array, handed to the controller process as an argument when it
-    starts (and again to a restarted one).
-    """
-
-    def __init__(self, context, count: int):
-        self.buffer = context.RawArray(ctypes.c_uint8, max(count, 1) * int(np.prod(IMAGE_SHAPE)))
-        self._slots = self.view(self.buffer)
-
-    @staticmethod
-    def view(buffer) -> np.ndarray:
-        """The slots of ``buffer`` as one array (slots, *IMAGE_SHAPE) uint8, sharing its memory."""
-        return np.frombuffer(buffer, dtype=np.uint8).reshape(-1, *IMAGE_SHAPE)
-
-    def put(self, agents: Sequence[str], observations: Mapping[str, Mapping[str, Any]]
-            ) -> dict[str, Mapping[str, Any]]:
-        """``observations`` to send, each image of the standard shape and type copied into its robot's slot
-        (``agents``: the controller's robots in slot order) and replaced by a :class:`_SharedImage`; others
-        are sent as they are."""
-        sent: dict[str, Mapping[str, Any]] = {}
-        for slot, agent in enumerate(agents):
-            if agent not in observations:
-                continue
-            observation = observations[agent]
-            image = observation.get("image") if isinstance(observation, Mapping) else None
-            if isinstance(image, np.ndarray) and image.shape == IMAGE_SHAPE and image.dtype == np.uint8:
-                self._slots[slot] = image
-                observation = {**observation, "image": _SharedImage(slot)}
-            sent[agent] = observation
-        return sent
-
-    @staticmethod
-    def take(slots: np.ndarray, observations: Mapping[str, Any]) -> Mapping[str, Any]:
-        """In the controller process: each :class:`_SharedImage` of ``observations`` replaced by a copy of
-        its slot of ``slots`` (in place; the observations were just unpickled)."""
-        for observation in observations.values():
-            if isinstance(observation, dict) and isinstance(observation.get("image"), _SharedImage):
-                observation["image"] = slots[observation["image"].slot].copy()
-        return observations
 
 
 def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[str, Any]]

@@ -113,8 +113,7 @@ def test_a_controller_starts_on_its_robots_observations_before_the_step_is_decid
 
 
 def test_images_reach_the_controller_processes_as_they_were_rendered() -> None:
-    """Images travel in shared memory: each step's reach the policies unchanged, and an image of another shape
-    travels in the message itself."""
+    """Each step's images reach the policies in the controller processes unchanged, whatever their shape."""
     factories = {agent: functools.partial(make_policy, "tests.user_policies:ImageProbe")
                  for agent in ("home_0", "home_1", "away_0")}
     rng = np.random.default_rng(7)
@@ -122,7 +121,7 @@ def test_images_reach_the_controller_processes_as_they_were_rendered() -> None:
         controllers.start(dict.fromkeys(factories, 0))
         for _ in range(3):
             images = {agent: rng.integers(0, 256, (120, 160, 3), dtype=np.uint8) for agent in factories}
-            images["away_0"] = images["away_0"][:60]  # another shape: sent in the message
+            images["away_0"] = images["away_0"][:60]  # a policy of another env may get another shape
             for agent in factories:
                 controllers.offer(agent, {"image": images[agent]})
             decision = controllers.decide({agent: {"image": images[agent]} for agent in factories})
