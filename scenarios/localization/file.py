@@ -34,6 +34,7 @@ from agents.localization import LOCALIZERS
 from agents.policies import PolicyNameError, known_policies, policy_factory
 from agents.vision.camera_models import CAMERA_MODELS
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
+from scenarios.common.io import SmallFileError, read_small_file
 from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN, MAX_SAMPLES
 from scenarios.localization.spec import MEASURABLE_POLICIES, RobotEntry, ScenarioSpec, ThesisReference
 from world.field import FIELD, Pose2D
@@ -139,22 +140,12 @@ def _read_toml(path: Path, given: str) -> dict:
     nested deeper than the parser can follow; a :class:`ScenarioFileError` naming the file otherwise."""
     expected_file = f"an existing scenario file or one of {', '.join(NAMED_SCENARIOS)}"
     try:
-        is_file = path.is_file()
-    except OSError as exc:  # a name too long
-        raise ScenarioFileError(path, "<file>", expected_file, exc.strerror) from exc
-    if not is_file:
-        raise ScenarioFileError(path, "<file>", expected_file, given)
-    too_big = f"a scenario file of at most {MAX_FILE_BYTES} bytes"
-    try:
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise ScenarioFileError(path, "<file>", too_big, f"{size} bytes")
-        with path.open("rb") as handle:
-            raw = handle.read(MAX_FILE_BYTES + 1)
-    except OSError as exc:
-        raise ScenarioFileError(path, "<file>", expected_file, str(exc)) from exc
-    if len(raw) > MAX_FILE_BYTES:  # a file that grows, or one that says it has no size
-        raise ScenarioFileError(path, "<file>", too_big, f"more than {MAX_FILE_BYTES} bytes")
+        raw = read_small_file(path, MAX_FILE_BYTES)
+    except SmallFileError as exc:
+        if exc.too_big:
+            raise ScenarioFileError(path, "<file>", f"a scenario file of at most {MAX_FILE_BYTES} bytes",
+                                    exc.reason) from None
+        raise ScenarioFileError(path, "<file>", expected_file, given if exc.missing else exc.reason) from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:

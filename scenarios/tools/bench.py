@@ -29,7 +29,7 @@ import pybullet as pb
 
 from agents.vision.head_scan import SCAN_PITCH_RAD
 from scenarios.common.batch import describe_error
-from scenarios.common.io import write_json
+from scenarios.common.io import SmallFileError, read_small_file, write_json
 from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
@@ -606,18 +606,10 @@ def read_bench_file(path: Path) -> dict:
     expected = "expected a bench.json of robotstadium bench, a JSON object with figures such as render_ms_median"
     path = Path(path)
     name = _shown(str(path))
-    raw = b""
     try:
-        regular = path.is_file()
-        if regular:
-            with path.open("rb") as handle:
-                raw = handle.read(MAX_BENCH_FILE_BYTES + 1)
-    except OSError as error:  # a name too long, a permission
-        raise BenchFileError(f"{name}: {error.strerror or type(error).__name__}; {expected}") from None
-    if not regular:
-        raise BenchFileError(f"{name}: not an existing regular file; {expected}")
-    if len(raw) > MAX_BENCH_FILE_BYTES:
-        raise BenchFileError(f"{name}: more than {MAX_BENCH_FILE_BYTES} bytes; {expected}")
+        raw = read_small_file(path, MAX_BENCH_FILE_BYTES)
+    except SmallFileError as error:
+        raise BenchFileError(f"{name}: {error.reason}; {expected}") from None
     try:
         results = json.loads(raw.decode("utf-8"))
     except (ValueError, RecursionError) as error:  # not UTF-8, not JSON, nested too deep

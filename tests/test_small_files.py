@@ -1,0 +1,37 @@
+"""The one bounded reader of small input files (scenarios.common.io.read_small_file)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from scenarios.common.io import SmallFileError, read_small_file
+
+
+def test_a_small_regular_file_is_read_whole(tmp_path: Path) -> None:
+    (tmp_path / "f").write_bytes(b"abc")
+    assert read_small_file(tmp_path / "f", 3) == b"abc"
+
+
+@pytest.mark.parametrize("name", ["nowhere", "dir", "link_to_nowhere"])
+def test_no_regular_file_is_missing(tmp_path: Path, name: str) -> None:
+    (tmp_path / "dir").mkdir()
+    os.symlink(tmp_path / "nowhere", tmp_path / "link_to_nowhere")
+    with pytest.raises(SmallFileError, match="^not an existing regular file$") as caught:
+        read_small_file(tmp_path / name, 10)
+    assert caught.value.missing and not caught.value.too_big
+
+
+def test_a_bigger_file_is_refused_by_its_size(tmp_path: Path) -> None:
+    (tmp_path / "f").write_bytes(b"abcd")
+    with pytest.raises(SmallFileError, match="^4 bytes$") as caught:
+        read_small_file(tmp_path / "f", 3)
+    assert caught.value.too_big and not caught.value.missing
+
+
+def test_a_name_too_long_is_the_systems_error(tmp_path: Path) -> None:
+    with pytest.raises(SmallFileError, match="name too long") as caught:
+        read_small_file(tmp_path / ("n" * 300), 10)
+    assert not caught.value.missing and not caught.value.too_big
