@@ -166,22 +166,14 @@ QUICK_START = {"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}
 def bench_env(repeats: int) -> dict[str, float]:
     """``env.step`` with 8 agents, all cameras on, random valid actions; beside it, in the same
     run and on the same world, the rendering and physics alone (``World.step`` + 8 frames);
-    then, on the same env, ``env.step`` with every camera off (``env_step_cameras_off``)."""
-    from match import parallel_env
-    from match.game import MatchConfig
-    from match.referee import RefereeConfig
-
-    env = parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START)))
+    then, on the same env, ``env.step`` with every camera off (``env_step_cameras_off``); then
+    ``env.step`` with all cameras on again, on an env with one render worker
+    (``env_step_render_worker``)."""
+    env = _bench_env_instance()
     try:
         env.reset(seed=0)
         world = env.match.world
         robots = env.match.agent_names
-
-        def random_actions(cameras_on: bool = True) -> dict:
-            actions = {a: env.action_space(a).sample() for a in env.agents}
-            for action in actions.values():
-                action["camera"] = 1 + action["camera"] % 2 if cameras_on else 0  # top or bottom, or none
-            return actions
 
         def render_and_physics() -> None:
             world.step()
@@ -190,7 +182,7 @@ def bench_env(repeats: int) -> dict[str, float]:
 
         env_ms, raw_ms = np.empty(repeats), np.empty(repeats)
         for i in range(ENV_WARMUP + repeats):
-            actions = random_actions()
+            actions = _random_actions(env)
             start = time.perf_counter()
             env.step(actions)
             middle = time.perf_counter()
@@ -207,7 +199,7 @@ def bench_env(repeats: int) -> dict[str, float]:
             if not env.agents:
                 env.reset(seed=ENV_WARMUP + repeats)
             off_actions.clear()
-            off_actions.update(random_actions(cameras_on=False))
+            off_actions.update(_random_actions(env, cameras_on=False))
 
         off_ms = time_ms(lambda: env.step(off_actions), repeats, ENV_WARMUP, before=draw_cameras_off)
     finally:
@@ -218,6 +210,44 @@ def bench_env(repeats: int) -> dict[str, float]:
     metrics["env_steps_per_s_cameras_off"] = 1e3 / metrics["env_step_cameras_off_ms_median"]
     metrics["render_physics_only_steps_per_s"] = 1e3 / metrics["render_physics_only_ms_median"]
     metrics["env_over_render_physics_ratio"] = metrics["env_step_ms_median"] / metrics["render_physics_only_ms_median"]
+    return {**metrics, **_bench_env_render_worker(repeats)}
+
+
+def _bench_env_instance(render_workers: int = 0):
+    """The benchmarks' env: 8 agents, short pauses before the kick-off."""
+    from match import parallel_env
+    from match.game import MatchConfig
+    from match.referee import RefereeConfig
+
+    return parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START)), render_workers=render_workers)
+
+
+def _random_actions(env, cameras_on: bool = True) -> dict:
+    """Random valid actions for every agent of ``env``, each camera on (top or bottom) or every one off."""
+    actions = {a: env.action_space(a).sample() for a in env.agents}
+    for action in actions.values():
+        action["camera"] = 1 + action["camera"] % 2 if cameras_on else 0  # top or bottom, or none
+    return actions
+
+
+def _bench_env_render_worker(repeats: int) -> dict[str, float]:
+    """``env.step`` as :func:`bench_env` times it (all cameras on) on an env with one render worker."""
+    env = _bench_env_instance(render_workers=1)
+    actions: dict = {}
+
+    def draw_actions() -> None:
+        if not env.agents:
+            env.reset(seed=1)
+        actions.clear()
+        actions.update(_random_actions(env))
+
+    try:
+        env.reset(seed=0)
+        step_ms = time_ms(lambda: env.step(actions), repeats, ENV_WARMUP, before=draw_actions)
+    finally:
+        env.close()
+    metrics = summarize("env_step_render_worker", step_ms)
+    metrics["env_steps_per_s_render_worker"] = 1e3 / metrics["env_step_render_worker_ms_median"]
     return metrics
 
 
