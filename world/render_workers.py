@@ -18,7 +18,6 @@ draws every frame itself (the same images, later).
 from __future__ import annotations
 
 import ctypes
-import logging
 import multiprocessing
 import os
 from collections.abc import Sequence
@@ -31,8 +30,6 @@ from world.camera_model import NAO_CAMERA
 from world.config import RobotSpec, WorldConfig
 from world.process_memory import peak_resident_mb
 from world.robot_model import TeamColor
-
-log = logging.getLogger(__name__)
 
 FRAME_SHAPE = (NAO_CAMERA.height_px, NAO_CAMERA.width_px, 3)  # one robot camera frame, RGB uint8
 START_TIMEOUT_S = 60.0  # a worker builds its world in about a second
