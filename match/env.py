@@ -65,10 +65,9 @@ class RobotStadiumEnv(ParallelEnv):
         config: MatchConfig | None = None,
         render_workers: int = 0,
     ):
-        if not isinstance(render_workers, int) or isinstance(render_workers, bool) or not (
-                0 <= render_workers <= MAX_RENDER_WORKERS):
-            raise MatchConfigError(f"render_workers {shown(render_workers)}; expected an integer 0-{MAX_RENDER_WORKERS} "
-                                   "(processes that draw camera frames beside the env's)")
+        if type(render_workers) is not int or not 0 <= render_workers <= MAX_RENDER_WORKERS:
+            raise MatchConfigError(f"render_workers {shown(render_workers)}; expected an integer "
+                                   f"0-{MAX_RENDER_WORKERS} (processes that draw camera frames beside the env's)")
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise MatchConfigError(
                 f"render_mode {render_mode!r}; expected None or one of {self.metadata['render_modes']}"

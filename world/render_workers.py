@@ -114,7 +114,7 @@ class RenderWorker:
         return frames
 
     def close(self) -> None:
-        """Stop the process (at once: it holds nothing that needs saving)."""
+        """Stop the process: told to end, and killed if it has not within a second (it holds nothing to save)."""
         if self._conn is not None:
             try:
                 self._conn.send(("close",))

@@ -76,7 +76,8 @@ class TournamentSettings:
         if not _is_int(self.seed):
             raise TournamentError(f"--seed {self.seed!r}: expected an integer")
         if not _is_int(self.render_workers) or not 0 <= self.render_workers <= MAX_RENDER_WORKERS:
-            raise TournamentError(f"--render-workers {self.render_workers!r}: expected an integer 0-{MAX_RENDER_WORKERS}")
+            raise TournamentError(f"--render-workers {self.render_workers!r}: expected an integer "
+                                  f"0-{MAX_RENDER_WORKERS}")
         if self.pauses is not None:
             pauses = tuple(self.pauses)
             if len(pauses) != len(PAUSE_NAMES) or not all(_is_number(p) and p >= 0 for p in pauses):
