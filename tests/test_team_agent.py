@@ -293,3 +293,51 @@ def test_a_clearing_goes_along_its_aim_never_toward_its_own_goal_and_is_pushed_n
     in_the_field = Pose2D(-1.0, 0.2, 0.0)
     motion, _, _ = agent._strike(in_the_field, ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick
+
+
+@pytest.mark.parametrize("attack", [1.0, -1.0])
+@pytest.mark.parametrize("line_y", [1.6, -1.6])
+def test_a_throw_in_first_touch_goes_neither_back_nor_out(attack: float, line_y: float) -> None:
+    """From anywhere round a ball on the throw-in line, the first touch's aim never points back toward
+    the own goal and at most 15 degrees toward the near side line; a robot already coming at the ball
+    that way keeps its way."""
+    from agents.behavior.aim import RESTART_INTO_FIELD_RAD, RESTART_TOWARD_LINE_RAD, restart_aim
+
+    ball = (0.5, line_y)
+    side = math.copysign(1.0, line_y)
+    for bearing in np.radians(np.arange(0.0, 360.0, 15.0)):
+        robot = (ball[0] + 0.8 * math.cos(bearing), ball[1] + 0.8 * math.sin(bearing))
+        aim = restart_aim(ball, robot, attack)
+        forward, toward_line = attack * (aim.x - ball[0]), side * (aim.y - ball[1])
+        way = math.atan2(toward_line, forward)
+        assert -RESTART_INTO_FIELD_RAD - 1e-9 <= way <= RESTART_TOWARD_LINE_RAD + 1e-9, math.degrees(bearing)
+        coming = math.atan2(side * (ball[1] - robot[1]), attack * (ball[0] - robot[0]))
+        if -RESTART_INTO_FIELD_RAD <= coming <= RESTART_TOWARD_LINE_RAD:
+            assert way == pytest.approx(coming)
+
+
+def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal() -> None:
+    """Just after a throw-in, a striker at the ball facing along the side line toward the opponent half
+    (the goal far off to the side) plays it at once; facing its own goal or the line it turns round
+    the ball first; ten seconds later the same striker at the same ball plays as in open play."""
+    from agents.team.agent import QUICK_TOUCH_S
+
+    ball_xy = (0.5, 1.6)
+    ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
+    along = Pose2D(ball_xy[0] - 0.15, ball_xy[1] - 0.04, 0.0)  # facing along the line, toward +x (attacked)
+
+    def strike(pose: Pose2D, seconds_since_throw_in: float) -> tuple[Motion, tuple[float, float, float]]:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent._drop_in_at_s = agent.now_s - seconds_since_throw_in
+        motion, walk, _ = agent._strike(pose, ball, None, 1.0, (0.0, 0.0))
+        return motion, walk
+
+    motion, walk = strike(along, 1.0)
+    assert motion.is_kick or (motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0)  # played forward at once
+    motion, walk = strike(along, QUICK_TOUCH_S + 1.0)
+    assert not motion.is_kick and walk[2] != 0.0  # open play: it turns round the ball to face the goal first
+    for theta in (math.pi, math.radians(100.0)):  # its own goal, the side line
+        motion, walk = strike(Pose2D(along.x, along.y, theta), 1.0)
+        assert not motion.is_kick and walk[2] != 0.0, theta  # round the ball, never through it

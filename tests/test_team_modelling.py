@@ -92,6 +92,15 @@ def test_roles_one_striker_with_hysteresis_and_the_rest_by_number() -> None:
     assert assign_role(Candidate(1, math.inf), [], Role.NONE) is Role.STRIKER  # alone: always the striker
 
 
+def test_roles_two_strikers_agree_on_one() -> None:
+    """The hysteresis counts for every robot that says it is the striker, so each robot's view agrees."""
+    # A robot a little faster than the striker does not take the role the striker keeps.
+    assert assign_role(Candidate(2, 5.0), [Candidate(1, 6.0, striker=True)], Role.NONE) is Role.DEFENDER
+    # Two robots that both took the role: the faster keeps it, the other yields, from either side.
+    assert assign_role(Candidate(1, 6.0), [Candidate(2, 5.5, striker=True)], Role.STRIKER) is Role.DEFENDER
+    assert assign_role(Candidate(2, 5.5), [Candidate(1, 6.0, striker=True)], Role.STRIKER) is Role.STRIKER
+
+
 def test_time_to_ball_counts_the_turn() -> None:
     facing = time_to_ball(Pose2D(0.0, 0.0, 0.0), (1.0, 0.0))
     away = time_to_ball(Pose2D(0.0, 0.0, math.pi), (1.0, 0.0))

@@ -1,12 +1,14 @@
 """Roles: who plays what, from the team model, and where each role stands.
 
 The goalkeeper is player 0. Among the field players the striker is the robot that reaches
-the ball first by an estimated time that counts the walk and the turn (a robot that is the
+the ball first by an estimated time that counts the walk and the turn. A robot that is the
 striker keeps the role unless another is :data:`STRIKER_HYSTERESIS_S` faster, so two robots
-do not chase the same ball for long); of the others, the lower number defends (between the
-ball and its own goal) and the next supports (behind the striker, off to the side). With
-fewer players the roles degrade: one field player is always the striker, two are striker
-and defender.
+do not chase the same ball for long; the bonus goes to every robot that says it is the
+striker (itself, or a teammate by its last message), so that two robots that took the role
+at once (each with the other's older time) agree on the faster one instead of both keeping
+it. Of the others, the lower number defends (between the ball and its own goal) and the
+next supports (behind the striker, off to the side). With fewer players the roles degrade:
+one field player is always the striker, two are striker and defender.
 
 Positions are in the field frame; they are computed in the frame where the robot's own goal
 is at x = -3 (``attack`` = +1 when it defends the blue goal, -1 otherwise) and mirrored.
@@ -38,10 +40,12 @@ FIELD_MARGIN_M = 0.3
 
 @dataclass(frozen=True)
 class Candidate:
-    """A robot that may take a role: its number and its estimated time to the ball (s)."""
+    """A robot that may take a role: its number, its estimated time to the ball (s), and whether it
+    said it is the striker (a teammate's last message; ignored for the robot deciding)."""
 
     player: int
     time_to_ball_s: float
+    striker: bool = False
 
 
 def time_to_ball(pose: Pose2D, ball_xy: tuple[float, float], fallen: bool = False) -> float:
@@ -58,8 +62,8 @@ def assign_role(own: Candidate, others: Sequence[Candidate], current: Role) -> R
     field_players = [own, *[c for c in others if c.player != 0 and c.player != own.player]]
 
     def effective(c: Candidate) -> tuple[float, int]:
-        bonus = STRIKER_HYSTERESIS_S if c.player == own.player and current is Role.STRIKER else 0.0
-        return (c.time_to_ball_s - bonus, c.player)
+        striker = current is Role.STRIKER if c.player == own.player else c.striker
+        return (c.time_to_ball_s - (STRIKER_HYSTERESIS_S if striker else 0.0), c.player)
 
     striker = min(field_players, key=effective)
     if striker.player == own.player:

@@ -22,7 +22,9 @@ One step (40 ms) runs, from the observation only:
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
    goal computed from its pose estimate (a ball believed out: it waits on the throw-in line;
-   a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`);
+   a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`;
+   a throw-in's ball still on the throw-in line: the quickest first touch that sends it neither
+   back toward the own goal nor out);
    the others walk to their role's position; every walk steps around the obstacles but the
    striker's near its ball.
 6. **Head**: track the ball, glance at a goal when the pose is uncertain; without its own
@@ -42,7 +44,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from agents.behavior import paths, skills
-from agents.behavior.aim import kick_aim
+from agents.behavior.aim import kick_aim, restart_aim
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_model import BallEstimate, BallModel
@@ -109,6 +111,9 @@ OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker
 THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
 DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
+QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the throw-in line, ...
+QUICK_TOUCH_BAND_M = 0.3  # ... (this near it) the striker takes the quickest safe first touch (agents.behavior.aim)
+QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick
 LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
 SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
 
@@ -344,8 +349,8 @@ class TeamAgent:
     def _assign_role(self, pose: Pose2D, ball: BallEstimate | None, obs: Observation) -> Role:
         own_time = math.inf if ball is None else time_to_ball(pose, (ball.x, ball.y), obs.fallen)
         self._time_to_ball_s = own_time
-        others = [Candidate(m.message.player, m.message.time_to_ball_s) for m in self.team.teammates(self.now_s)
-                  if not m.message.fallen]
+        others = [Candidate(m.message.player, m.message.time_to_ball_s, m.message.role is Role.STRIKER)
+                  for m in self.team.teammates(self.now_s) if not m.message.fallen]
         return assign_role(Candidate(self.player, own_time), others, self.role)
 
     def _shootout_role(self, obs: Observation) -> Role:
@@ -376,7 +381,10 @@ class TeamAgent:
         if _out_of_field(ball_xy):  # the referee will put it on the throw-in line: wait there
             motion, walk = skills.walk_to(pose, _throw_in_wait_pose(ball_xy, attack))
             return motion, walk, head
-        aim = kick_aim(ball_xy, attack, pose.y)
+        aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
+        quick = self._quick_touch(ball_xy)
+        if quick:
+            aim = restart_aim(ball_xy, (pose.x, pose.y), attack)
         if ball_rel is None:  # the team's ball (a teammate's, or a throw-in's spot): come at it from behind
             motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, aim.xy))
             return motion, walk, head
@@ -388,6 +396,9 @@ class TeamAgent:
             return motion, walk, head
         heading_error = math.remainder(math.atan2(aim.y - ball_xy[1], aim.x - ball_xy[0]) - pose.theta, math.tau)
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
+        if motion.is_kick and quick:
+            motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error)
+            return motion, walk, head
         if motion.is_kick:
             if not self._may_kick(pose, ball_xy, goal_x, heading_error, aim.clearing):
                 motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
@@ -396,6 +407,27 @@ class TeamAgent:
                 if aim.push:  # just in front of its own goal a kick gone wrong is a goal: push the ball away
                     motion, walk = Motion.WALK, skills.push(ball_rel)
         return motion, walk, head
+
+    def _quick_touch(self, ball_xy: tuple[float, float]) -> bool:
+        """Whether the ball, believed at ``ball_xy``, still waits for a throw-in's first touch: a throw-in
+        less than :data:`QUICK_TOUCH_S` ago, the ball still near the throw-in line."""
+        line_y = FIELD.half_width - THROW_IN_INSET_M
+        return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
+
+    def _first_touch(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
+                     goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float
+                     ) -> tuple[Motion, tuple[float, float, float]]:
+        """A throw-in's first touch at the ball (``heading_error``: to the touch's aim): the kick at the
+        opponent goal if the robot may kick it, else a push when facing the touch's aim, else the orbit to it."""
+        goal_error = math.remainder(math.atan2(goal_aim_xy[1] - ball_xy[1], goal_aim_xy[0] - ball_xy[0]) - pose.theta,
+                                    math.tau)
+        if abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD and self._may_kick(pose, ball_xy, goal_x, goal_error):
+            self.intention = Intention.KICK
+            return skills.kick_for(ball_rel), skills.STILL
+        if abs(heading_error) <= QUICK_PUSH_RAD:
+            self.intention = Intention.KICK
+            return Motion.WALK, skills.push(ball_rel)
+        return Motion.WALK, skills.orbit(ball_rel, heading_error)
 
     def _stand_up(self, obs: Observation) -> Motion:
         """The stand-up for the side it lies on (the accelerometer), once it lies still; lying on a flank
