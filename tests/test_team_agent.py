@@ -318,26 +318,36 @@ def test_a_throw_in_first_touch_goes_neither_back_nor_out(attack: float, line_y:
 
 def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal() -> None:
     """Just after a throw-in, a striker at the ball facing along the side line toward the opponent half
-    (the goal far off to the side) plays it at once; facing its own goal or the line it turns round
-    the ball first; ten seconds later the same striker at the same ball plays as in open play."""
-    from agents.team.agent import QUICK_TOUCH_S
+    (the goal far off to the side) plays it at once, and a second later plays on as in open play
+    (pushing on drifted the ball out); facing its own goal or the line it turns round the ball
+    first; ten seconds later the same striker at the same ball plays as in open play."""
+    from agents.team.agent import DT_S, QUICK_PUSH_S, QUICK_TOUCH_S
 
     ball_xy = (0.5, 1.6)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
     along = Pose2D(ball_xy[0] - 0.15, ball_xy[1] - 0.04, 0.0)  # facing along the line, toward +x (attacked)
 
-    def strike(pose: Pose2D, seconds_since_throw_in: float) -> tuple[Motion, tuple[float, float, float]]:
+    def after_throw_in(seconds: float) -> TeamAgent:
         agent = TeamAgent()
         agent.reset("home_2", 0)
         agent.step = 1000
-        agent._drop_in_at_s = agent.now_s - seconds_since_throw_in
+        agent._drop_in_at_s = agent.now_s - seconds
+        return agent
+
+    def strike(agent: TeamAgent, pose: Pose2D) -> tuple[Motion, tuple[float, float, float]]:
         motion, walk, _ = agent._strike(pose, ball, None, 1.0, (0.0, 0.0))
         return motion, walk
 
-    motion, walk = strike(along, 1.0)
+    agent = after_throw_in(1.0)
+    motion, walk = strike(agent, along)
     assert motion.is_kick or (motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0)  # played forward at once
-    motion, walk = strike(along, QUICK_TOUCH_S + 1.0)
-    assert not motion.is_kick and walk[2] != 0.0  # open play: it turns round the ball to face the goal first
+    agent.step += round(QUICK_PUSH_S / DT_S) - 1
+    assert strike(agent, along) == (motion, walk)  # still its first touch
+    agent.step += 1
+    motion, walk = strike(agent, along)
+    assert not motion.is_kick and walk[2] != 0.0  # then open play: it turns round the ball to face the goal
+    motion, walk = strike(after_throw_in(QUICK_TOUCH_S + 1.0), along)
+    assert not motion.is_kick and walk[2] != 0.0  # open play
     for theta in (math.pi, math.radians(100.0)):  # its own goal, the side line
-        motion, walk = strike(Pose2D(along.x, along.y, theta), 1.0)
+        motion, walk = strike(after_throw_in(1.0), Pose2D(along.x, along.y, theta))
         assert not motion.is_kick and walk[2] != 0.0, theta  # round the ball, never through it

@@ -113,7 +113,8 @@ DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's sp
 DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
 QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the throw-in line, ...
 QUICK_TOUCH_BAND_M = 0.3  # ... (this near it) the striker takes the quickest safe first touch (agents.behavior.aim)
-QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick
+QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick,
+QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
 LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
 SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
 
@@ -166,6 +167,7 @@ class TeamAgent:
         self._drop_in_since_s = math.inf  # the last broadcast's seconds since a throw-in
         self._drop_in_at_s = -math.inf  # when the last throw-in put the ball back (own clock)
         self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
+        self._first_touch_s = -math.inf  # when it began its first touch after the last throw-in (own clock)
 
     @property
     def now_s(self) -> float:
@@ -411,6 +413,8 @@ class TeamAgent:
     def _quick_touch(self, ball_xy: tuple[float, float]) -> bool:
         """Whether the ball, believed at ``ball_xy``, still waits for a throw-in's first touch: a throw-in
         less than :data:`QUICK_TOUCH_S` ago, the ball still near the throw-in line."""
+        if self._first_touch_s >= self._drop_in_at_s and self.now_s - self._first_touch_s >= QUICK_PUSH_S:
+            return False  # its first touch is taken
         line_y = FIELD.half_width - THROW_IN_INSET_M
         return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
 
@@ -418,16 +422,17 @@ class TeamAgent:
                      goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float
                      ) -> tuple[Motion, tuple[float, float, float]]:
         """A throw-in's first touch at the ball (``heading_error``: to the touch's aim): the kick at the
-        opponent goal if the robot may kick it, else a push when facing the touch's aim, else the orbit to it."""
+        opponent goal if the robot may kick it, else a push (for :data:`QUICK_PUSH_S`) when facing the
+        touch's aim, else the orbit to it."""
         goal_error = math.remainder(math.atan2(goal_aim_xy[1] - ball_xy[1], goal_aim_xy[0] - ball_xy[0]) - pose.theta,
                                     math.tau)
-        if abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD and self._may_kick(pose, ball_xy, goal_x, goal_error):
-            self.intention = Intention.KICK
-            return skills.kick_for(ball_rel), skills.STILL
-        if abs(heading_error) <= QUICK_PUSH_RAD:
-            self.intention = Intention.KICK
-            return Motion.WALK, skills.push(ball_rel)
-        return Motion.WALK, skills.orbit(ball_rel, heading_error)
+        kick = abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD and self._may_kick(pose, ball_xy, goal_x, goal_error)
+        if not kick and abs(heading_error) > QUICK_PUSH_RAD:
+            return Motion.WALK, skills.orbit(ball_rel, heading_error)
+        self.intention = Intention.KICK
+        if self._first_touch_s < self._drop_in_at_s:
+            self._first_touch_s = self.now_s
+        return (skills.kick_for(ball_rel), skills.STILL) if kick else (Motion.WALK, skills.push(ball_rel))
 
     def _stand_up(self, obs: Observation) -> Motion:
         """The stand-up for the side it lies on (the accelerometer), once it lies still; lying on a flank
