@@ -299,9 +299,9 @@ def test_a_clearing_goes_along_its_aim_never_toward_its_own_goal_and_is_pushed_n
 @pytest.mark.parametrize("line_y", [1.6, -1.6])
 def test_a_throw_in_first_touch_goes_neither_back_nor_out(attack: float, line_y: float) -> None:
     """From anywhere round a ball on the throw-in line, the first touch's aim never points back toward
-    the own goal and at most 15 degrees toward the near side line; a robot already coming at the ball
-    that way keeps its way."""
-    from agents.behavior.aim import RESTART_INTO_FIELD_RAD, RESTART_TOWARD_LINE_RAD, restart_aim
+    the own goal and turns at least 10 degrees off the near side line into the field; a robot already
+    coming at the ball that way keeps its way."""
+    from agents.behavior.aim import RESTART_INTO_FIELD_RAD, RESTART_OFF_LINE_RAD, restart_aim
 
     ball = (0.5, line_y)
     side = math.copysign(1.0, line_y)
@@ -310,9 +310,9 @@ def test_a_throw_in_first_touch_goes_neither_back_nor_out(attack: float, line_y:
         aim = restart_aim(ball, robot, attack)
         forward, toward_line = attack * (aim.x - ball[0]), side * (aim.y - ball[1])
         way = math.atan2(toward_line, forward)
-        assert -RESTART_INTO_FIELD_RAD - 1e-9 <= way <= RESTART_TOWARD_LINE_RAD + 1e-9, math.degrees(bearing)
+        assert -RESTART_INTO_FIELD_RAD - 1e-9 <= way <= -RESTART_OFF_LINE_RAD + 1e-9, math.degrees(bearing)
         coming = math.atan2(side * (ball[1] - robot[1]), attack * (ball[0] - robot[0]))
-        if -RESTART_INTO_FIELD_RAD <= coming <= RESTART_TOWARD_LINE_RAD:
+        if -RESTART_INTO_FIELD_RAD <= coming <= -RESTART_OFF_LINE_RAD:
             assert way == pytest.approx(coming)
 
 
@@ -351,3 +351,27 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal() -
     for theta in (math.pi, math.radians(100.0)):  # its own goal, the side line
         motion, walk = strike(after_throw_in(1.0), Pose2D(along.x, along.y, theta))
         assert not motion.is_kick and walk[2] != 0.0, theta  # round the ball, never through it
+
+
+def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() -> None:
+    """A ball resting on the side line, believed 0.12 m beyond it: the striker waits on the throw-in
+    line for the referee at first, but once the ball was believed out for longer than the referee
+    takes to put it back, it plays it as a ball just inside (both teams' strikers once waited 70 s)."""
+    from agents.behavior import skills
+    from agents.team.agent import DT_S, OUT_WAIT_S, _throw_in_wait_pose
+
+    pose = Pose2D(-0.32, -1.63, -0.16)
+    believed, inside = (-0.04, -2.12), (-0.04, -2.0 + 0.05)
+
+    def strike(ball_xy: tuple[float, float], out_for_s: float) -> tuple:
+        agent = TeamAgent()
+        agent.reset("away_2", 0)
+        agent.step = 1000
+        agent._ball_in_s = agent.now_s - out_for_s
+        ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.05, 0.0)
+        return agent._strike(pose, ball, None, -1.0, (0.0, 0.0))
+
+    waiting = strike(believed, OUT_WAIT_S - DT_S)
+    assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(believed, -1.0))
+    playing = strike(believed, OUT_WAIT_S + DT_S)
+    assert playing == strike(inside, 0.0) and playing != waiting

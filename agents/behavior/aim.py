@@ -10,9 +10,10 @@ front of the line. Within :data:`PUSH_DEPTH_M` of the line the ball is pushed th
 kicked: a kick that goes astray so near the goal is a goal.
 
 A throw-in's first touch (:func:`restart_aim`) is played the way the robot already comes at
-the ball, turned only as far as needed to keep it from going back toward the own goal or out
-over the near side line: the quick touch that puts the ball back in play, where walking round
-the ball to face the opponent goal takes a slow robot (0.15-0.2 m/s) ten seconds or more.
+the ball, turned only as far as needed to keep it from going back toward the own goal or
+along or out over the near side line: the quick touch that puts the ball back in play,
+where walking round the ball to face the opponent goal takes a slow robot (0.15-0.2 m/s)
+ten seconds or more.
 
 Computed in the frame where the own goal is at x = -3 (``attack`` = +1 when the robot
 defends the blue goal, -1 otherwise) and mirrored; field frame, m and rad.
@@ -35,7 +36,7 @@ BEHIND_MIN_DEPTH_M = 0.05  # ... as long as the spot behind the ball stays this 
 PUSH_DEPTH_M = 0.4  # ours: nearer the line, a kick gone astray (back between the feet) is a goal: push
 AIM_DISTANCE_M = 2.0  # the aim point of a clearing lies this far from the ball
 CENTRE_BAND_M = 0.2  # a ball this near the goal's axis is cleared away from the robot's side
-RESTART_TOWARD_LINE_RAD = math.radians(15.0)  # ours: a throw-in's first touch goes at most this far toward the near line ...
+RESTART_OFF_LINE_RAD = math.radians(10.0)  # ours: a throw-in's first touch turns at least this far off the near line into the field ...
 RESTART_INTO_FIELD_RAD = math.radians(90.0)  # ... and at most square into the field (never back toward the own goal)
 
 
@@ -83,10 +84,10 @@ def _clearing_point(bx: float, by: float, depth: float, attack: float, side: flo
 
 def restart_aim(ball_xy: tuple[float, float], robot_xy: tuple[float, float], attack: float) -> Aim:
     """The aim of a throw-in's first touch for a robot at ``robot_xy``: along the way it comes at the
-    ball, clipped to between :data:`RESTART_TOWARD_LINE_RAD` toward the side line nearer the ball
-    and :data:`RESTART_INTO_FIELD_RAD` into the field (angles from the attack direction)."""
+    ball, clipped to between :data:`RESTART_OFF_LINE_RAD` and :data:`RESTART_INTO_FIELD_RAD` into the
+    field, away from the side line nearer the ball (angles from the attack direction)."""
     bx, by = ball_xy
     side = 1.0 if by >= 0.0 else -1.0
     way = math.atan2(side * (by - robot_xy[1]), attack * (bx - robot_xy[0]))
-    way = min(max(way, -RESTART_INTO_FIELD_RAD), RESTART_TOWARD_LINE_RAD)
+    way = min(max(way, -RESTART_INTO_FIELD_RAD), -RESTART_OFF_LINE_RAD)
     return Aim(bx + attack * AIM_DISTANCE_M * math.cos(way), by + side * AIM_DISTANCE_M * math.sin(way), False)

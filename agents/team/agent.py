@@ -108,7 +108,9 @@ POST_MARGIN_M = 0.15  # ... this far inside them
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
 OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
-THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out
+THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out ...
+OUT_WAIT_S = 3.0  # ... this long at most: the referee puts a ball back 2 s after it left; one believed out longer lies in
+IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved this far inside the line
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
 DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
 QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the throw-in line, ...
@@ -168,6 +170,7 @@ class TeamAgent:
         self._drop_in_at_s = -math.inf  # when the last throw-in put the ball back (own clock)
         self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
         self._first_touch_s = -math.inf  # when it began its first touch after the last throw-in (own clock)
+        self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
 
     @property
     def now_s(self) -> float:
@@ -345,6 +348,9 @@ class TeamAgent:
             team = BallEstimate(*self._drop_in_spot, 0.0, 0.0, DROP_IN_SPOT_SIGMA_M, since_drop_in)
         if team is not None:
             self._last_ball_xy = (team.x, team.y)
+        believed = own if own is not None else team
+        if believed is None or not _out_of_field((believed.x, believed.y)):
+            self._ball_in_s = self.now_s
         self._believed_balls = (None if own is None else (own.x, own.y), None if team is None else (team.x, team.y))
         return team
 
@@ -380,9 +386,11 @@ class TeamAgent:
         self.intention = Intention.GO_TO_BALL
         goal_x = FIELD.half_length * attack
         ball_xy = (ball_field.x, ball_field.y) if ball_rel is None else _in_field(pose, ball_rel)
-        if _out_of_field(ball_xy):  # the referee will put it on the throw-in line: wait there
-            motion, walk = skills.walk_to(pose, _throw_in_wait_pose(ball_xy, attack))
-            return motion, walk, head
+        if _out_of_field(ball_xy):
+            if self.now_s - self._ball_in_s < OUT_WAIT_S:  # the referee will put it on the throw-in line: wait there
+                motion, walk = skills.walk_to(pose, _throw_in_wait_pose(ball_xy, attack))
+                return motion, walk, head
+            ball_xy = _into_field(ball_xy)  # not put back: it lies on a line, believed a little beyond it
         aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
         quick = self._quick_touch(ball_xy)
         if quick:
@@ -587,6 +595,12 @@ def _shootout(obs: Observation) -> bool:
 def _out_of_field(ball_xy: tuple[float, float]) -> bool:
     """Whether a ball believed at ``ball_xy`` (field frame) is over a side or end line (by :data:`OUT_MARGIN_M`)."""
     return abs(ball_xy[0]) > FIELD.half_length + OUT_MARGIN_M or abs(ball_xy[1]) > FIELD.half_width + OUT_MARGIN_M
+
+
+def _into_field(ball_xy: tuple[float, float]) -> tuple[float, float]:
+    """A ball believed at ``ball_xy`` (field frame), moved :data:`IN_FIELD_MARGIN_M` inside the lines if beyond them."""
+    x_max, y_max = FIELD.half_length - IN_FIELD_MARGIN_M, FIELD.half_width - IN_FIELD_MARGIN_M
+    return min(max(ball_xy[0], -x_max), x_max), min(max(ball_xy[1], -y_max), y_max)
 
 
 def _throw_in_wait_pose(ball_xy: tuple[float, float], attack: float) -> Pose2D:
