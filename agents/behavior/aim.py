@@ -36,7 +36,7 @@ BEHIND_MIN_DEPTH_M = 0.05  # ... as long as the spot behind the ball stays this 
 PUSH_DEPTH_M = 0.4  # ours: nearer the line, a kick gone astray (back between the feet) is a goal: push
 AIM_DISTANCE_M = 2.0  # the aim point of a clearing lies this far from the ball
 CENTRE_BAND_M = 0.2  # a ball this near the goal's axis is cleared away from the robot's side
-RESTART_OFF_LINE_RAD = math.radians(10.0)  # ours: a throw-in's first touch turns at least this far off the near line into the field ...
+RESTART_OFF_LINE_RAD = math.radians(10.0)  # ours: a throw-in's first touch turns at least this far off the line ...
 RESTART_INTO_FIELD_RAD = math.radians(90.0)  # ... and at most square into the field (never back toward the own goal)
 
 

@@ -109,7 +109,7 @@ FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and wa
 FOLLOW_KICK_MPS = 0.15
 OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
 THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out ...
-OUT_WAIT_S = 3.0  # ... this long at most: the referee puts a ball back 2 s after it left; one believed out longer lies in
+OUT_WAIT_S = 3.0  # ... this long at most: the referee puts a ball back 2 s after it left (believed out longer: it is in)
 IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved this far inside the line
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
 DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
@@ -434,7 +434,8 @@ class TeamAgent:
         touch's aim, else the orbit to it."""
         goal_error = math.remainder(math.atan2(goal_aim_xy[1] - ball_xy[1], goal_aim_xy[0] - ball_xy[0]) - pose.theta,
                                     math.tau)
-        kick = abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD and self._may_kick(pose, ball_xy, goal_x, goal_error)
+        kick = (abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD
+                and self._may_kick(pose, ball_xy, goal_x, goal_error))
         if not kick and abs(heading_error) > QUICK_PUSH_RAD:
             return Motion.WALK, skills.orbit(ball_rel, heading_error)
         self.intention = Intention.KICK
