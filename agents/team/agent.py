@@ -404,7 +404,7 @@ class TeamAgent:
             if motion is Motion.STAND:  # at the way round (near enough to it): on to the spot behind the ball
                 motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, aim.xy))
             return motion, walk, head
-        heading_error = math.remainder(math.atan2(aim.y - ball_xy[1], aim.x - ball_xy[0]) - pose.theta, math.tau)
+        heading_error = _heading_error(pose, ball_xy, aim.xy)
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick and quick:
             motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error)
@@ -432,8 +432,7 @@ class TeamAgent:
         """A throw-in's first touch at the ball (``heading_error``: to the touch's aim): the kick at the
         opponent goal if the robot may kick it, else a push (for :data:`QUICK_PUSH_S`) when facing the
         touch's aim, else the orbit to it."""
-        goal_error = math.remainder(math.atan2(goal_aim_xy[1] - ball_xy[1], goal_aim_xy[0] - ball_xy[0]) - pose.theta,
-                                    math.tau)
+        goal_error = _heading_error(pose, ball_xy, goal_aim_xy)
         kick = (abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD
                 and self._may_kick(pose, ball_xy, goal_x, goal_error))
         if not kick and abs(heading_error) > QUICK_PUSH_RAD:
@@ -596,6 +595,11 @@ def _shootout(obs: Observation) -> bool:
 def _out_of_field(ball_xy: tuple[float, float]) -> bool:
     """Whether a ball believed at ``ball_xy`` (field frame) is over a side or end line (by :data:`OUT_MARGIN_M`)."""
     return abs(ball_xy[0]) > FIELD.half_length + OUT_MARGIN_M or abs(ball_xy[1]) > FIELD.half_width + OUT_MARGIN_M
+
+
+def _heading_error(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> float:
+    """The direction from the ball to ``aim_xy`` minus the robot's heading, normalized (field frame, rad)."""
+    return math.remainder(math.atan2(aim_xy[1] - ball_xy[1], aim_xy[0] - ball_xy[0]) - pose.theta, math.tau)
 
 
 def _into_field(ball_xy: tuple[float, float]) -> tuple[float, float]:
