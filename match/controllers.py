@@ -11,7 +11,8 @@ kinds give the same decisions for policies that behave:
   robot's controller as a program of its own: one process per robot or per team
   (:attr:`ControllerLimits.group`), started from a clean server process (``forkserver``
   where there is one, else ``spawn``), so a controller cannot reach the simulator's objects.
-  Observations go out and actions come back over pipes; the processes of one step work in
+  Observations go out and actions come back over pipes (the camera images through shared
+  memory, :mod:`match.shared_images`); the processes of one step work in
   parallel, each asked as soon as its robots' observations are built (the runner offers each
   one as the match builds it: the home team's controller acts while the away team's cameras
   are rendered). A controller that has not answered within the step budget
@@ -53,6 +54,7 @@ from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, check_pose
 from match.reports import ReportReader
+from match.shared_images import SharedImages, frames_of, unpack
 from world.process_memory import peak_resident_mb
 
 log = logging.getLogger(__name__)
@@ -334,12 +336,13 @@ class _Controller:
         self.probation = False  # missed a deadline: steps do not wait for it (see ProcessControllers)
         self.answers_in_budget = 0  # on probation: answers within the budget in a row
         self.restarts = 0  # in this match
+        self.images = SharedImages(context, len(self.agents))  # kept over restarts: one buffer per controller
 
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
         parent, child = self._context.Pipe()
-        self.process = self._context.Process(target=serve, args=(child, self.factories), daemon=True,
-                                             name=f"controller {','.join(self.agents)}")
+        self.process = self._context.Process(target=serve, args=(child, self.factories, self.images.buffer),
+                                             daemon=True, name=f"controller {','.join(self.agents)}")
         try:
             self.process.start()
         except Exception as error:  # no process could be started: the robots stand
@@ -356,7 +359,7 @@ class _Controller:
         self.closed_step = False
         self.busy = True
         self.asked_at = time.perf_counter()
-        return self._send(("act", self.sequence, observations))
+        return self._send(("act", self.sequence, self.images.pack(observations)))
 
     def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
         """Read one message (an answer, a late answer, a reset's answer) or the process's death."""
@@ -482,8 +485,9 @@ class _Controller:
 # ---- the controller process ---------------------------------------------------------------
 
 
-def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
-    """A controller process's loop: build the policies, then answer resets and steps until told to close."""
+def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer) -> None:
+    """A controller process's loop: build the policies, then answer resets and steps until told to close
+    (``image_buffer``: the controller's :class:`~match.shared_images.SharedImages` buffer)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the simulator's to handle
     policies: dict[str, Policy] = {}
     broken: dict[str, str] = {}
@@ -493,6 +497,7 @@ def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
         except BaseException as error:  # noqa: B036 - a policy that cannot be built is its robot's fault
             broken[agent] = f"PolicyBuildError: {_describe(error)}"
     reader = ReportReader(policies)
+    frames = frames_of(image_buffer)
     while True:
         message = conn.recv()
         if message[0] == "close":
@@ -508,6 +513,7 @@ def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
             conn.send(("reset", reader.estimates(), reader.reports(), faults))
             continue
         _, sequence, observations = message
+        observations = unpack(frames, observations)
         actions, faults = _act_all(policies, observations)
         faults += [PolicyFault(a, broken[a]) for a in broken if a in observations]
         faults_sent = [(f.agent, f.error, f.where) for f in faults]

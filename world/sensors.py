@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
 import pybullet as pb
 
 from world.camera_model import CameraPosition
@@ -52,26 +55,41 @@ def sonar_rays(client: int, body: int, config: SonarConfig) -> list[tuple[tuple,
     Each sonar is a fan of rays across its cone, starting just outside the torso; the
     sonar reads the nearest hit of its fan.
     """
-    position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
-    m = pb.getMatrixFromQuaternion(orientation)
-    rays = []
+    starts, ends = sonar_rays_batch(client, (body,), config)
+    return [(tuple(start), tuple(end)) for start, end in zip(starts.tolist(), ends.tolist())]
+
+
+def sonar_rays_batch(client: int, bodies: Sequence[int], config: SonarConfig) -> tuple[np.ndarray, np.ndarray]:
+    """The sonar rays of several robots at once, as :func:`sonar_rays` in body order: starts and
+    ends (n, 3), m, world frame (the same numbers, computed in the same order, for all robots)."""
+    local_starts, local_directions = _sonar_layout(config)
+    positions, rotations = [], []
+    for body in bodies:
+        position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+        positions.append(position)
+        rotations.append(pb.getMatrixFromQuaternion(orientation))
+    m = np.asarray(rotations, float).reshape(-1, 1, 3, 3)  # torso -> world, row-major
+    starts = np.asarray(positions, float)[:, None, :] + _rotate(m, local_starts)
+    ends = starts + config.max_range_m * _rotate(m, local_directions)
+    return starts.reshape(-1, 3), ends.reshape(-1, 3)
+
+
+@functools.lru_cache(maxsize=4)
+def _sonar_layout(config: SonarConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Every ray's start and unit direction in the torso frame (centre), sonar by sonar: (rays, 3) each."""
+    starts, directions = [], []
     for height in (config.upper_height_m, config.lower_height_m):
         for side in (1.0, -1.0):
-            local_start = (0.06, side * 0.03, height - TORSO_CENTER_HEIGHT_M)
-            start = tuple(p + d for p, d in zip(position, _rotate(m, local_start)))
             for offset in config.cone_offsets_rad:
                 yaw = side * config.yaw_rad + offset
-                direction = _rotate(m, (math.cos(yaw), math.sin(yaw), 0.0))
-                rays.append((start, tuple(s + config.max_range_m * d for s, d in zip(start, direction))))
-    return rays
+                starts.append((0.06, side * 0.03, height - TORSO_CENTER_HEIGHT_M))
+                directions.append((math.cos(yaw), math.sin(yaw), 0.0))
+    return np.array(starts), np.array(directions)
 
 
-def _rotate(m: tuple[float, ...], v: tuple[float, float, float]) -> tuple[float, float, float]:
-    return (
-        m[0] * v[0] + m[1] * v[1] + m[2] * v[2],
-        m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
-        m[6] * v[0] + m[7] * v[1] + m[8] * v[2],
-    )
+def _rotate(m: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``m @ v`` for (robots, 1, 3, 3) rotations and (rays, 3) vectors, summed left to right: (robots, rays, 3)."""
+    return m[..., 0] * v[None, :, 0:1] + m[..., 1] * v[None, :, 1:2] + m[..., 2] * v[None, :, 2:3]
 
 
 def sonar_distances(hits, config: SonarConfig) -> tuple[float, ...]:

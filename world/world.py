@@ -31,7 +31,15 @@ from world.render_workers import BodyPoses, RenderWorker, RenderWorkerError
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
 from world.scene import SceneBodies, build_scene
 from world.static_scene import StaticScene
-from world.sensors import GRAVITY_MPS2, SensorReading, bumpers, head_angles, sonar_distances, sonar_rays, to_torso
+from world.sensors import (
+    GRAVITY_MPS2,
+    SensorReading,
+    bumpers,
+    head_angles,
+    sonar_distances,
+    sonar_rays_batch,
+    to_torso,
+)
 
 log = logging.getLogger(__name__)
 
@@ -475,8 +483,10 @@ class World:
         """Sensor readings of several robots, with one batched ray test for all sonars."""
         ids = list(self.robot_ids if robot_ids is None else [self._check_robot(r) for r in robot_ids])
         client = self._client
-        rays = [ray for rid in ids for ray in sonar_rays(client, self._bodies[rid], self.config.sonar)]
-        hits = pb.rayTestBatch([r[0] for r in rays], [r[1] for r in rays], physicsClientId=client) if rays else []
+        hits = []
+        if ids:
+            starts, ends = sonar_rays_batch(client, [self._bodies[rid] for rid in ids], self.config.sonar)
+            hits = pb.rayTestBatch(starts.tolist(), ends.tolist(), physicsClientId=client)
         rays_per_robot = 4 * len(self.config.sonar.cone_offsets_rad)
         noise = self.config.imu_noise
         readings = {}
