@@ -15,7 +15,9 @@ kinds give the same decisions for policies that behave:
   memory, :mod:`match.shared_images`); the processes of one step work in
   parallel, each asked as soon as its robots' observations are built (the runner offers each
   one as the match builds it: the home team's controller acts while the away team's cameras
-  are rendered). A controller that has not answered within the step budget
+  are rendered), and a policy that is a :class:`~match.protocol.policy.Thinker` thinks after
+  the answer went out, while the simulator plays the next step. A controller that has not
+  answered within the step budget
   (:attr:`ControllerLimits.step_budget_s`) gets its robots a stand for that step and a
   fault; while it is still busy its robots stand, and its late answer is dropped. It is then
   on probation: steps no longer wait for it (its answer counts when it comes while the others
@@ -52,7 +54,7 @@ from typing import Any, Protocol
 
 from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
-from match.protocol.policy import AgentReport, Policy, PoseTuple, check_pose
+from match.protocol.policy import AgentReport, Policy, PoseTuple, Thinker, check_pose
 from match.reports import ReportReader
 from match.shared_images import SharedImages, frames_of, unpack
 from world.process_memory import peak_resident_mb
@@ -497,7 +499,9 @@ def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer
         except BaseException as error:  # noqa: B036 - a policy that cannot be built is its robot's fault
             broken[agent] = f"PolicyBuildError: {_describe(error)}"
     reader = ReportReader(policies)
+    thinkers = {agent: policy for agent, policy in policies.items() if isinstance(policy, Thinker)}
     frames = frames_of(image_buffer)
+    thought: list[PolicyFault] = []  # faults of the thinking after the last answer: sent with the next one
     while True:
         message = conn.recv()
         if message[0] == "close":
@@ -516,8 +520,9 @@ def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer
         observations = unpack(frames, observations)
         actions, faults = _act_all(policies, observations)
         faults += [PolicyFault(a, broken[a]) for a in broken if a in observations]
-        faults_sent = [(f.agent, f.error, f.where) for f in faults]
+        faults_sent = [(f.agent, f.error, f.where) for f in thought + faults]
         conn.send(("act", sequence, actions, reader.estimates(), reader.reports(), faults_sent))
+        thought = _think_all(thinkers, observations)  # while the simulator plays the next step
 
 
 def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[str, Any]]
@@ -538,6 +543,21 @@ def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[
             faults.append(PolicyFault.of(agent, error))
             actions[agent] = None
     return actions, faults
+
+
+def _think_all(thinkers: Mapping[str, Thinker], observations: Mapping[str, Any]) -> list[PolicyFault]:
+    """Each :class:`~match.protocol.policy.Thinker` that was asked this step thinks; what one raises is its fault."""
+    faults: list[PolicyFault] = []
+    for agent, policy in thinkers.items():
+        if agent not in observations:
+            continue
+        try:
+            policy.think()
+        except KeyboardInterrupt:
+            raise
+        except BaseException as error:  # noqa: B036 - as in _act_all
+            faults.append(PolicyFault.of(agent, error))
+    return faults
 
 
 def _checked(check: Callable[[object], Any], value: object) -> Any:

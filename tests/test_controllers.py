@@ -55,13 +55,28 @@ def test_faulty_controllers_cost_only_their_robots(tmp_path: Path) -> None:
     assert faulty_wall < 1.5 * clean_wall + 3.0, (faulty_wall, clean_wall)  # 1.3-1.5x measured on 2 cores
 
 
-def test_controller_processes_play_the_same_match_as_in_process(tmp_path: Path) -> None:
-    lineup = Lineup("scripted", "scripted")
+@pytest.mark.parametrize("policy", ["scripted", "team"])  # the team agent thinks between steps in a process
+def test_controller_processes_play_the_same_match_as_in_process(tmp_path: Path, policy: str) -> None:
+    lineup = Lineup(policy, policy)
     for name, limits in (("in_process", None), ("per_team", ControllerLimits(group="team"))):
         run_lineup_match(tmp_path / name, lineup, home=2, away=2, half_seconds=60.0, seed=2, progress=False,
                          max_steps=100, referee=QUICK, controllers=limits)
     for name in ("events.jsonl", "match_log.npz"):
         assert (tmp_path / "in_process" / name).read_bytes() == (tmp_path / "per_team" / name).read_bytes(), name
+
+
+def test_a_controller_process_has_a_thinker_think_after_its_answer_and_records_what_it_raises(tmp_path: Path) -> None:
+    summary, _ = play(tmp_path, Lineup("tests.user_policies:ThinksLater", GOOD), LIMITS)
+    details = summary["faults"]["details"]
+    assert {d["agent"] for d in details} == {"home_0", "home_1", "home_2", "home_3"}
+    assert all("RuntimeError: think" in d["error"] for d in details)
+    assert 4 * (STEPS // 7 - 2) <= len(details) <= 4 * (STEPS // 7)  # the thinks of a step's answer: one fewer
+    with np.load(tmp_path / "match_log.npz") as log:
+        agents, estimates = list(log["agents"]), log["estimates"]
+    for agent in ("home_0", "away_0"):  # a thinker's last act is counted when it thinks: after the answer
+        acts = np.rint(estimates[:, agents.index(agent), 0] * 100.0)
+        lag = 1 if agent.startswith("home") else 0
+        assert np.array_equal(acts[1:], (np.arange(1, STEPS + 1) - lag) % 100), agent
 
 
 @pytest.mark.parametrize("settings", [{"step_budget_s": 0.0}, {"step_budget_s": float("nan")},

@@ -98,6 +98,29 @@ class Counted(Spinner):
         return (float(self.steps % 100) / 100.0, 0.0, 0.0)  # counts the acts, for the log
 
 
+class ThinksLater(Counted):
+    """Counted, whose acts are counted in :meth:`think` (a :class:`~match.protocol.policy.Thinker`) when a
+    controller calls it, else at the next act; every 7th think raises."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        super().reset(agent_id, seed)
+        self.thoughts = 0  # acts to be counted
+        self.thinks = 0
+
+    def act(self, observation: dict) -> dict:
+        self.think()
+        self.thoughts = 1
+        return make_action(Motion.WALK, walk=(0.1, 0.0, 0.3), camera=CameraChoice.TOP)
+
+    def think(self) -> None:
+        if not self.thoughts:
+            return
+        self.steps, self.thoughts = self.steps + self.thoughts, 0
+        self.thinks += 1
+        if self.thinks % 7 == 0:
+            raise RuntimeError(f"think {self.thinks} of {self.agent_id} fails")
+
+
 class ImageProbe(Spinner):
     """Stands; reports what the image of its last observation showed, as a pose estimate (for the tests):
     its first byte / 10, the sum of its bytes modulo 1000 / 100, and its height in pixels."""

@@ -2,15 +2,18 @@
 
 One step (40 ms) runs, from the observation only:
 
-1. **Odometry**: the walk commanded last step moved the robot, and the gyro says how much
-   it turned; the self-locator, the ball model and the obstacle model are moved by it
-   (:mod:`agents.modelling`), and the sonars' echoes go into the obstacle model.
-2. **Radio in**: teammates' messages (:mod:`agents.team.messages`) into the team model;
-   anything else is counted and ignored.
-3. **Perception** (when the camera gave a frame): the landmark pipeline of
+1. **Perception** of the last step's camera frame, if the step before it had the camera on
+   and nothing saw it yet (:meth:`TeamAgent.think`): the landmark pipeline of
    :mod:`agents.vision`, the ball from the same segmented image, its size checked against
    its distance, and other robots by their waistbands; landmarks update the self-locator,
-   the ball the ball model, robots the obstacle model.
+   the ball the ball model, robots the obstacle model. A frame is seen after the action of
+   its step went out (in a controller process, while the simulator plays the next step):
+   one step of perception latency.
+2. **Odometry**: the walk commanded last step moved the robot, and the gyro says how much
+   it turned; the self-locator, the ball model and the obstacle model are moved by it
+   (:mod:`agents.modelling`), and the sonars' echoes go into the obstacle model.
+3. **Radio in**: teammates' messages (:mod:`agents.team.messages`) into the team model;
+   anything else is counted and ignored. This step's frame, if any, is kept for step 1.
 4. **Game state**: stand in INITIAL, SET and FINISHED (placed at its kick-off pose in
    INITIAL, so the locator is reset there, and in SET when it lay fallen or believes it
    stood where it may not stay: the referee placed it); walk to the kick-off pose in READY;
@@ -38,6 +41,7 @@ Variants: the localization method (``method``) and ``avoid_obstacles`` (False: t
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from collections.abc import Mapping
@@ -144,6 +148,7 @@ class TeamAgent:
         self.intention = Intention.NONE
         self.decode_stats = DecodeStats()
         self.step = 0
+        self._unseen: Observation | None = None  # the last act's frame, not seen yet (think)
         self.sequence = 0
         self._walk = skills.STILL
         self._state: GameState | None = None
@@ -184,12 +189,13 @@ class TeamAgent:
 
     def act(self, observation: Observation | Mapping[str, Any]) -> dict:
         obs = Observation.of(observation)
+        self.think()  # the last step's frame, unless a controller process had it seen already
         self.step += 1
         self._move(obs)
         self._listen(obs)
         busy = obs.fallen or (obs.motion is not None and obs.motion.is_stand_up)
-        if obs.image is not None and not busy:
-            self._see(obs)
+        # kept for think(): a copy of the image, since a caller may reuse its buffer for the next step
+        self._unseen = dataclasses.replace(obs, image=obs.image.copy()) if obs.image is not None and not busy else None
         self._follow_game(obs)
         motion, walk, head = self._decide(obs, busy)
         if motion is Motion.WALK and self.avoid_obstacles and not self._contesting():
@@ -201,6 +207,16 @@ class TeamAgent:
         radio = self._message(obs).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
         camera = CameraChoice.of(self._camera) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
         return make_action(motion, walk=walk, head=skills.clip_head(*head), camera=camera, radio=radio)
+
+    def think(self) -> None:
+        """See the camera frame of the last :meth:`act` (:class:`~match.protocol.policy.Thinker`):
+        the models take it in after the step's action went out, so a step's action reacts to the
+        frames before it, one step (40 ms) of perception latency, as on a robot whose vision runs
+        beside its motion control. A controller process calls this while the simulator plays the
+        next step; otherwise the next :meth:`act` does, first: the same actions either way."""
+        frame, self._unseen = self._unseen, None
+        if frame is not None:
+            self._see(frame)
 
     # ---- modelling -----------------------------------------------------------------------
 

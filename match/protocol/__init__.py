@@ -15,7 +15,7 @@ from match.protocol.kickoff import (
     penalty_pose,
 )
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, packet_bytes, packet_of, packet_space
-from match.protocol.policy import AgentReport, AgentReporter, Policy, PoseReporter, PoseTuple
+from match.protocol.policy import AgentReport, AgentReporter, Policy, PoseReporter, PoseTuple, Thinker
 from match.protocol.spaces import (
     MAX_SECONDS,
     MOTIONS,
@@ -69,6 +69,7 @@ __all__ = [
     "Side",
     "StepRefusedError",
     "TeamColor",
+    "Thinker",
     "UnknownAgentError",
     "action_space",
     "kickoff_pose",

@@ -11,6 +11,9 @@ the truth; one that implements :class:`AgentReporter` has its :class:`AgentRepor
 the team's ball, its role, the landmarks it saw) recorded there too. The runner asks for
 both after every step; a report that raises or does not fit its type is not a fault of
 play: the log records nothing for that robot that step (:class:`~match.errors.InvalidReportError`).
+
+An optional :class:`Thinker` moves work out of the step: a controller process calls its
+``think`` after the step's actions went out, while the simulator plays the next step.
 """
 
 from __future__ import annotations
@@ -41,6 +44,20 @@ class Policy(Protocol):
 
     def act(self, observation: Mapping[str, Any]) -> Any:
         """The action for this control step (40 ms), from this step's observation only."""
+
+
+@runtime_checkable
+class Thinker(Protocol):
+    """A policy with work that can wait until its action has gone out (a camera frame's perception, say).
+
+    A controller process calls :meth:`think` right after it sent a step's actions, so that the work
+    overlaps the simulator's next step; nothing calls it in the simulator's process. Whether it was
+    called or not, :meth:`Policy.act` must give the same action: ``act`` first does whatever
+    ``think`` left undone. An error it raises is the robot's fault, recorded with the next step.
+    """
+
+    def think(self) -> None:
+        """Do the work the last :meth:`Policy.act` left for later."""
 
 
 @runtime_checkable
