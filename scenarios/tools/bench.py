@@ -416,7 +416,8 @@ AGENT_ROBOT = "home_1"
 def bench_agent(repeats: int) -> dict[str, float]:
     """The team agent's ``act`` playing ``home_1`` in an 8-robot match (the others scripted):
     its cost on steps without a new camera frame and on steps with one (vision and
-    localization); ``repeats`` of each after a warm-up."""
+    localization); ``repeats`` of each after a warm-up. A step's cost is its ``act`` and its
+    ``think`` (where the agent sees the step's frame, :class:`~match.protocol.Thinker`)."""
     from agents.team.agent import TeamAgent
     from match.game import Match
     from scenarios.matches.play import Lineup, match_config
@@ -440,6 +441,7 @@ def bench_agent(repeats: int) -> dict[str, float]:
             actions = {a: policies[a].act(observations[a]) for a in match.agent_names if a != AGENT_ROBOT}
             start = time.perf_counter()
             actions[AGENT_ROBOT] = agent.act(observations[AGENT_ROBOT])
+            agent.think()
             elapsed_ms = (time.perf_counter() - start) * 1e3
             if step >= AGENT_WARMUP_STEPS:
                 framed = int(observations[AGENT_ROBOT]["camera"]) != 0
