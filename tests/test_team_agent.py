@@ -245,6 +245,35 @@ def test_a_near_ball_with_the_aim_behind_is_orbited_without_stepping_in_first() 
     assert skills.chase(far, math.radians(120.0))[1] == skills.approach(far)  # farther: walk in first
 
 
+# Kick noise draws (world seeds) with which a kick from a ball 0.12-0.13 m ahead squeezes it backward.
+_BACKWARD_KICK_SEEDS = (1002, 1003, 1004, 1013)
+
+
+def test_the_careful_kick_steps_back_from_a_ball_too_near_and_its_kicks_never_go_backward(world) -> None:
+    """A ball 0.12-0.13 m ahead of a foot is kicked backward between the feet by some kicks (a
+    striker scored own goals so); the careful kick (``foot_first``) steps back from it, and from
+    every place where it does kick, the ball goes forward, with the kick noise of those kicks."""
+    from agents.behavior import skills
+
+    near = BallEstimate(0.13, 0.04, 0.0, 0.0, 0.02, 0.0)
+    motion, (vx, _, _) = skills.chase(near, 0.0, foot_first=True)
+    assert motion is Motion.WALK and vx < 0.0
+    for ahead, left in ((skills.KICK_NEAREST_M + 0.002, 0.035), (skills.KICK_NEAREST_M + 0.002, -0.05),
+                        (0.18, 0.035), (0.175, -0.06)):
+        ball = BallEstimate(ahead, left, 0.0, 0.0, 0.02, 0.0)
+        kick, _ = skills.chase(ball, 0.0, foot_first=True)
+        assert kick.is_kick, (ahead, left)
+        for seed in _BACKWARD_KICK_SEEDS:
+            world.reset(seed)
+            world.place_robot("a", Pose2D(0.0, 0.0, 0.0))
+            world.place_robot("b", Pose2D(-3.0, 2.5, 0.0))
+            world.place_ball(ahead, left)
+            world.step(3)
+            world.command_motion("a", kick)
+            world.step(60)
+            assert world.ball().x - ahead > 1.0, (ahead, left, seed)
+
+
 def _to_robot(pose: Pose2D, xy: tuple[float, float]) -> tuple[float, float]:
     dx, dy = xy[0] - pose.x, xy[1] - pose.y
     c, s = math.cos(pose.theta), math.sin(pose.theta)

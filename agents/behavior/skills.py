@@ -74,8 +74,10 @@ MIN_APPROACH_MPS = 0.08
 ALIGN_WITHIN_M = 0.4  # nearer than this, side-step to put the ball in front of a foot
 ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
 FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
-FOOT_BAND_M = (0.025, 0.085)  # |lateral offset| of a ball in front of a foot (m)
-KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.12-0.17 m ahead, 0.03-0.08 m to the side
+FOOT_BAND_M = (0.03, 0.08)  # |lateral offset| of a ball in front of a foot (m)
+KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.14-0.19 m ahead, 0.03-0.08 m to the side ...
+KICK_NEAREST_M = 0.145  # ... but 0.12-0.13 m ahead the swung foot lands on the ball about one kick in four
+BACK_OFF_MPS = 0.05  # and squeezes it back between the feet: a careful kicker steps back first
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
 KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
 SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
@@ -165,7 +167,9 @@ def chase(
 
     ``heading_error_rad``: attacked direction minus estimated heading, normalized.
     ``foot_first``: at kicking distance, first side-step until the ball lies before a foot
-    (:data:`FOOT_BAND_M`), where the kick is strong; a ball between the feet is kicked weakly.
+    (:data:`FOOT_BAND_M`), where the kick is strong (a ball between the feet is kicked weakly),
+    and step back until it lies at least :data:`KICK_NEAREST_M` ahead (nearer, a kick may send it
+    backward between the feet).
     """
     if abs(ball.bearing_rad) > TURN_IN_PLACE_RAD:
         return Motion.WALK, turn_toward(ball.bearing_rad)
@@ -173,9 +177,11 @@ def chase(
         return Motion.WALK, orbit(ball, heading_error_rad)
     if ball.distance_m >= KICK_DISTANCE_M:
         return Motion.WALK, approach(ball)
-    if foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]:
+    too_near = foot_first and ball.distance_m * math.cos(ball.bearing_rad) < KICK_NEAREST_M
+    if too_near or (foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]):
         foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
-        return Motion.WALK, walk_command(0.0, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
+        vx = -BACK_OFF_MPS if too_near else 0.0
+        return Motion.WALK, walk_command(vx, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
     if abs(heading_error_rad) <= KICK_HEADING_TOLERANCE_RAD:
         return kick_for(ball), STILL
     return Motion.WALK, orbit(ball, heading_error_rad)
