@@ -75,9 +75,9 @@ ALIGN_WITHIN_M = 0.4  # nearer than this, side-step to put the ball in front of 
 ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
 FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
 FOOT_BAND_M = (0.03, 0.08)  # |lateral offset| of a ball in front of a foot (m)
-KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.14-0.19 m ahead, 0.03-0.08 m to the side ...
-KICK_NEAREST_M = 0.145  # ... but 0.12-0.13 m ahead the swung foot lands on the ball about one kick in four
-BACK_OFF_MPS = 0.05  # and squeezes it back between the feet: a careful kicker steps back first
+KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.17-0.19 m ahead, 0.03-0.08 m to the side ...
+KICK_NEAREST_M = 0.17  # ... nearer, a kick that turns the robot swings the foot past the ball, which comes
+BACK_OFF_MPS = 0.05  # down in front of it and squeezes it back between the feet: a careful kicker steps back
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
 KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
 SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
@@ -130,9 +130,10 @@ def turn_toward(bearing_rad: float) -> tuple[float, float, float]:
     return walk_command(0.0, 0.0, math.copysign(max(abs(omega), MIN_TURN_RADPS), bearing_rad))
 
 
-def approach(ball: RelativeBall) -> tuple[float, float, float]:
-    """Walk forward to the ball: steer toward it, then, when near, side-step it in front of a foot."""
-    vx = max(APPROACH_GAIN_PER_S * (ball.distance_m - APPROACH_STOP_M), MIN_APPROACH_MPS)
+def approach(ball: RelativeBall, stop_m: float = APPROACH_STOP_M) -> tuple[float, float, float]:
+    """Walk forward to the ball, slowing toward ``stop_m``: steer toward it, then, when near,
+    side-step it in front of a foot."""
+    vx = max(APPROACH_GAIN_PER_S * (ball.distance_m - stop_m), MIN_APPROACH_MPS)
     if ball.distance_m >= ALIGN_WITHIN_M:
         return walk_command(vx, 0.0, TURN_GAIN_PER_S * ball.bearing_rad)
     foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
@@ -176,7 +177,7 @@ def chase(
     if abs(heading_error_rad) > KICK_HEADING_TOLERANCE_RAD and ball.distance_m < ORBIT_WITHIN_M:
         return Motion.WALK, orbit(ball, heading_error_rad)
     if ball.distance_m >= KICK_DISTANCE_M:
-        return Motion.WALK, approach(ball)
+        return Motion.WALK, approach(ball, KICK_NEAREST_M if foot_first else APPROACH_STOP_M)
     too_near = foot_first and ball.distance_m * math.cos(ball.bearing_rad) < KICK_NEAREST_M
     if too_near or (foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]):
         foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
