@@ -272,14 +272,19 @@ def _kick(world, seed: int, ahead: float, left: float, walk_steps: int) -> float
 
 def test_the_careful_kick_steps_back_from_a_ball_too_near_and_its_kicks_never_go_backward(world) -> None:
     """A ball 0.155-0.165 m ahead of a foot is kicked backward between the feet by some kicks (a
-    striker scored own goals so); the careful kick (``foot_first``) steps back from it, and from
+    striker scored own goals so); the careful kick (in its own half) steps back from it, and from
     every place where it does kick, the ball goes forward, with the kick noise of those kicks."""
     from agents.behavior import skills
 
     assert _kick(world, 2006, 0.165, 0.045, 29) < 0.0 and _kick(world, 2013, 0.155, -0.045, 29) < 0.0
     near = BallEstimate(0.16, 0.04, 0.0, 0.0, 0.02, 0.0)
-    motion, (vx, _, _) = skills.chase(near, 0.0, foot_first=True)
+    motion, (vx, _, _) = skills.chase(near, 0.0, foot_first=True, nearest_m=skills.KICK_NEAREST_M)
     assert motion is Motion.WALK and vx < 0.0
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    for x, careful in ((-1.5, True), (1.0, False)):  # careful in its own half only, quicker elsewhere
+        motion, (vx, _, _), _ = agent._strike(Pose2D(x, 0.0, 0.0), near, None, 1.0, (0.0, 0.0))
+        assert motion.is_kick is not careful and (vx < 0.0) is careful, x
     for ahead, left in ((skills.KICK_NEAREST_M + 0.002, 0.035), (skills.KICK_NEAREST_M + 0.002, -0.05),
                         (0.18, 0.045), (0.18, -0.055)):
         ball = BallEstimate(ahead, left, 0.0, 0.0, 0.02, 0.0)
