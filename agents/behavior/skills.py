@@ -74,10 +74,8 @@ MIN_APPROACH_MPS = 0.08
 ALIGN_WITHIN_M = 0.4  # nearer than this, side-step to put the ball in front of a foot
 ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
 FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
-FOOT_BAND_M = (0.03, 0.08)  # |lateral offset| of a ball in front of a foot (m)
-KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.17-0.19 m ahead, 0.03-0.08 m to the side ...
-KICK_NEAREST_M = 0.17  # ... nearer, a kick that turns the robot may swing the foot past the ball and down
-BACK_OFF_MPS = 0.05  # in front of it, squeezing it back between the feet: a careful kicker steps back first
+FOOT_BAND_M = (0.025, 0.085)  # |lateral offset| of a ball in front of a foot (m)
+KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.12-0.17 m ahead, 0.03-0.08 m to the side
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
 KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
 SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
@@ -130,10 +128,9 @@ def turn_toward(bearing_rad: float) -> tuple[float, float, float]:
     return walk_command(0.0, 0.0, math.copysign(max(abs(omega), MIN_TURN_RADPS), bearing_rad))
 
 
-def approach(ball: RelativeBall, stop_m: float = APPROACH_STOP_M) -> tuple[float, float, float]:
-    """Walk forward to the ball, slowing toward ``stop_m``: steer toward it, then, when near,
-    side-step it in front of a foot."""
-    vx = max(APPROACH_GAIN_PER_S * (ball.distance_m - stop_m), MIN_APPROACH_MPS)
+def approach(ball: RelativeBall) -> tuple[float, float, float]:
+    """Walk forward to the ball: steer toward it, then, when near, side-step it in front of a foot."""
+    vx = max(APPROACH_GAIN_PER_S * (ball.distance_m - APPROACH_STOP_M), MIN_APPROACH_MPS)
     if ball.distance_m >= ALIGN_WITHIN_M:
         return walk_command(vx, 0.0, TURN_GAIN_PER_S * ball.bearing_rad)
     foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
@@ -162,27 +159,23 @@ def kick_for(ball: RelativeBall) -> Motion:
 
 
 def chase(
-    ball: RelativeBall, heading_error_rad: float, foot_first: bool = False, nearest_m: float = 0.0
+    ball: RelativeBall, heading_error_rad: float, foot_first: bool = False
 ) -> tuple[Motion, tuple[float, float, float]]:
     """Field player with the ball in sight: turn to it, walk to it, kick it toward the goal.
 
     ``heading_error_rad``: attacked direction minus estimated heading, normalized.
     ``foot_first``: at kicking distance, first side-step until the ball lies before a foot
     (:data:`FOOT_BAND_M`), where the kick is strong; a ball between the feet is kicked weakly.
-    ``nearest_m``: step back until the ball lies at least this far ahead
-    (:data:`KICK_NEAREST_M` where a kick sent backward would be dangerous), approaching slowly to it.
     """
     if abs(ball.bearing_rad) > TURN_IN_PLACE_RAD:
         return Motion.WALK, turn_toward(ball.bearing_rad)
     if abs(heading_error_rad) > KICK_HEADING_TOLERANCE_RAD and ball.distance_m < ORBIT_WITHIN_M:
         return Motion.WALK, orbit(ball, heading_error_rad)
     if ball.distance_m >= KICK_DISTANCE_M:
-        return Motion.WALK, approach(ball, max(nearest_m, APPROACH_STOP_M))
-    too_near = ball.distance_m * math.cos(ball.bearing_rad) < nearest_m
-    if too_near or (foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]):
+        return Motion.WALK, approach(ball)
+    if foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]:
         foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
-        vx = -BACK_OFF_MPS if too_near else 0.0
-        return Motion.WALK, walk_command(vx, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
+        return Motion.WALK, walk_command(0.0, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
     if abs(heading_error_rad) <= KICK_HEADING_TOLERANCE_RAD:
         return kick_for(ball), STILL
     return Motion.WALK, orbit(ball, heading_error_rad)

@@ -107,7 +107,6 @@ KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within thi
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
 CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
-CAREFUL_KICK_X_M = 0.0  # ball in its own half (attack * x below this): kick it from skills.KICK_NEAREST_M or farther
 SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only when the kick's line passes between the posts ...
 POST_MARGIN_M = 0.15  # ... this far inside them
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
@@ -422,9 +421,7 @@ class TeamAgent:
                 motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, aim.xy))
             return motion, walk, head
         heading_error = _heading_error(pose, ball_xy, aim.xy)
-        careful = attack * ball_xy[0] < CAREFUL_KICK_X_M  # a kick gone backward there runs toward the own goal
-        motion, walk = skills.chase(ball_rel, heading_error, foot_first=True,
-                                    nearest_m=skills.KICK_NEAREST_M if careful else 0.0)
+        motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick and quick:
             motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error)
             return motion, walk, head
