@@ -16,6 +16,7 @@ from match.game import MatchConfig
 from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, observation_space
 from match.runner import run_match
 from tests.user_policies import RadioFuzzer
+from world.camera_model import CameraPosition
 from world.field import FIELD
 
 
@@ -104,6 +105,46 @@ def test_in_shooting_range_it_kicks_only_between_the_posts(x: float, theta: floa
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
     motion, _, _ = agent._strike(Pose2D(x, 0.0, theta), ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick is kicks
+
+
+def test_it_shoots_past_a_goalkeeper_it_saw_not_at_it() -> None:
+    from agents.behavior.shot_window import shot_window
+    from agents.vision.robots import RobotKind, RobotPercept
+    from world.teams import TeamColor
+
+    def strike(theta: float, keeper_seen: bool = True) -> Motion:
+        """At (1, 0) facing ``theta``, the ball at its left foot, the goalkeeper seen at (2.85, 0)."""
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        if keeper_seen:
+            agent.obstacles.see([RobotPercept(-theta, 1.85, TeamColor.RED, RobotKind.OPPONENT, (0, 0, 1, 1),
+                                              (0.0, 0.0), 1)])
+        ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
+        return agent._strike(Pose2D(1.0, 0.0, theta), ball, None, 1.0, (0.0, 0.0))[0]
+
+    assert strike(0.0, keeper_seen=False).is_kick
+    assert not strike(0.0).is_kick  # straight at the goalkeeper
+    window = shot_window((1.15, 0.04), FIELD.half_length, [(2.85, 0.0)])
+    assert abs(window.direction_rad) > math.radians(5.0)
+    assert strike(window.direction_rad).is_kick  # past it
+
+
+def test_lining_up_a_shot_it_looks_ahead_with_the_top_camera_every_few_frames() -> None:
+    from agents.team.agent import CAMERA_EVERY_STEPS, SHOT_TOP_FRAME_EVERY
+
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
+    cameras = []
+    for step in range(CAMERA_EVERY_STEPS * SHOT_TOP_FRAME_EVERY * 2):
+        agent.step = step
+        agent._camera = CameraPosition.BOTTOM
+        agent._strike(Pose2D(1.0, 0.0, 0.6), ball, None, 1.0, (0.0, 0.0))  # in range, not yet aligned
+        if step % CAMERA_EVERY_STEPS == 0:
+            cameras.append(agent._frame_camera())
+    assert cameras.count(CameraPosition.TOP) == 2 and cameras.count(CameraPosition.BOTTOM) == 4
+    agent.step += 1  # no longer lining up: the head's camera
+    assert agent._frame_camera() is CameraPosition.BOTTOM
 
 
 @pytest.mark.render

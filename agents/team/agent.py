@@ -48,11 +48,12 @@ from collections.abc import Mapping
 from typing import Any
 
 from agents.behavior import paths, skills
-from agents.behavior.aim import kick_aim, restart_aim
+from agents.behavior.aim import Aim, kick_aim, restart_aim
+from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_model import BallEstimate, BallModel
-from agents.modelling.obstacle_model import ObstacleModel
+from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
@@ -107,8 +108,10 @@ KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within thi
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
 CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
-SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only when the kick's line passes between the posts ...
-POST_MARGIN_M = 0.15  # ... this far inside them
+SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the open part of its mouth (shot_window)
+SHOT_TOP_FRAME_EVERY = 3  # ... and while lining a shot up, looks with the top camera every this many frames
+SHOT_MIN_AHEAD_M = 0.1  # ... when the ball lies this far in front of the goal line; nearer, between the posts ...
+POST_MARGIN_M = 0.15  # a kick whose line passes this far inside the posts may roll on toward a side line
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
 OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
@@ -175,6 +178,8 @@ class TeamAgent:
         self._drop_in_at_s = -math.inf  # when the last throw-in put the ball back (own clock)
         self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
         self._first_touch_s = -math.inf  # when it began its first touch after the last throw-in (own clock)
+        self._shot_direction_rad: float | None = None  # the direction its last shot window aimed at (field frame)
+        self._lining_up_s = -math.inf  # when it last lined up a shot with the ball at its feet (own clock)
         self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
 
     @property
@@ -205,8 +210,17 @@ class TeamAgent:
             walk = escape
         self._walk = walk if motion is Motion.WALK else skills.STILL
         radio = self._message(obs).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
-        camera = CameraChoice.of(self._camera) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
+        camera = CameraChoice.of(self._frame_camera()) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
         return make_action(motion, walk=walk, head=skills.clip_head(*head), camera=camera, radio=radio)
+
+    def _frame_camera(self) -> CameraPosition:
+        """The camera of this step's frame: the one the head chose, but while the striker lines up a shot with
+        the ball at its feet (bottom camera), every :data:`SHOT_TOP_FRAME_EVERY`-th frame the top one, which
+        sees the robots in front of the goal (the shot window's blockers) and the goal's posts."""
+        frame = self.step // CAMERA_EVERY_STEPS
+        if self._lining_up_s == self.now_s and frame % SHOT_TOP_FRAME_EVERY == 0:
+            return CameraPosition.TOP
+        return self._camera
 
     def think(self) -> None:
         """See the camera frame of the last :meth:`act` (:class:`~match.protocol.policy.Thinker`):
@@ -408,6 +422,14 @@ class TeamAgent:
                 return motion, walk, head
             ball_xy = _into_field(ball_xy)  # not put back: it lies on a line, believed a little beyond it
         aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
+        shot = None
+        if (not aim.clearing and math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M
+                and attack * (goal_x - ball_xy[0]) > SHOT_MIN_AHEAD_M):
+            shot = shot_window(ball_xy, goal_x, self._robots_in_field(pose), self._shot_direction_rad)
+            self._shot_direction_rad = shot.direction_rad
+            if ball_rel is not None and ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
+                self._lining_up_s = self.now_s
+            aim = goal_aim = Aim(*shot.aim_xy, False)
         quick = self._quick_touch(ball_xy)
         if quick:
             aim = restart_aim(ball_xy, (pose.x, pose.y), attack)
@@ -423,10 +445,10 @@ class TeamAgent:
         heading_error = _heading_error(pose, ball_xy, aim.xy)
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick and quick:
-            motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error)
+            motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
             return motion, walk, head
         if motion.is_kick:
-            if not self._may_kick(pose, ball_xy, goal_x, heading_error, aim.clearing):
+            if not self._may_kick(pose, ball_xy, goal_x, heading_error, aim.clearing, shot):
                 motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
             else:
                 self.intention = Intention.KICK
@@ -443,14 +465,14 @@ class TeamAgent:
         return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
 
     def _first_touch(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
-                     goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float
-                     ) -> tuple[Motion, tuple[float, float, float]]:
+                     goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float,
+                     shot: ShotWindow | None) -> tuple[Motion, tuple[float, float, float]]:
         """A throw-in's first touch at the ball (``heading_error``: to the touch's aim): the kick at the
         opponent goal if the robot may kick it, else a push (for :data:`QUICK_PUSH_S`) when facing the
         touch's aim, else the orbit to it."""
         goal_error = _heading_error(pose, ball_xy, goal_aim_xy)
         kick = (abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD
-                and self._may_kick(pose, ball_xy, goal_x, goal_error))
+                and self._may_kick(pose, ball_xy, goal_x, goal_error, shot=shot))
         if not kick and abs(heading_error) > QUICK_PUSH_RAD:
             return Motion.WALK, skills.orbit(ball_rel, heading_error)
         self.intention = Intention.KICK
@@ -468,6 +490,12 @@ class TeamAgent:
             return Motion.STAND_UP_FROM_FRONT if last is Motion.STAND_UP_FROM_BACK else Motion.STAND_UP_FROM_BACK
         return skills.stand_up_for(obs.accelerometer_mps2[0])
 
+    def _robots_in_field(self, pose: Pose2D) -> list[tuple[float, float]]:
+        """The robots it has seen (not the sonars' echoes: their bearing is vague) in the field frame (m)."""
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        return [(pose.x + c * o.x_m - s * o.y_m, pose.y + s * o.x_m + c * o.y_m)
+                for o in self.obstacles.obstacles() if o.kind is not ObstacleKind.UNKNOWN]
+
     def _just_kicked(self) -> bool:
         return self.now_s - self._kicked_s < FOLLOW_KICK_S
 
@@ -477,16 +505,20 @@ class TeamAgent:
         return self.role is Role.STRIKER and ball is not None and ball.distance_m < CONTEST_BALL_M
 
     def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float,
-                  clearing: bool = False) -> bool:
-        """Facing the opponent goal by the pose (within its posts when in shooting range: the kick
-        goes where the robot faces), not the own goal by the eyes, not out over a side line within
-        a kick's roll; a clearing from the own goal mouth (:mod:`agents.behavior.aim`) only faces its
-        aim (``heading_error``) and may go out: a throw-in there is no goal."""
+                  clearing: bool = False, shot: ShotWindow | None = None) -> bool:
+        """Facing the opponent goal by the pose (in shooting range, ``shot``: within the open part of
+        its mouth, :mod:`agents.behavior.shot_window`; the kick goes where the robot faces), not the
+        own goal by the eyes, not out over a side line within a kick's roll; a clearing from the own
+        goal mouth (:mod:`agents.behavior.aim`) only faces its aim (``heading_error``) and may go
+        out: a throw-in there is no goal."""
         if clearing:
             return abs(heading_error) <= KICK_ALIGN_RAD and self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S
         on_target = _on_target(pose.theta, ball_xy, goal_x)
-        if math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M:
-            if not on_target:
+        if shot is not None:
+            if not shot.allows(pose.theta):
+                return False
+        elif math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M:
+            if not on_target:  # at the goal line: between the posts at least
                 return False
         elif abs(heading_error) > KICK_ALIGN_RAD:
             return False
