@@ -24,7 +24,8 @@ One step (40 ms) runs, from the observation only:
    someone sees it.
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
-   goal computed from its pose estimate (a ball believed out: it waits on the throw-in line;
+   goal computed from its pose estimate, within 3 m of it into the widest part of the mouth
+   no robot it saw covers (:mod:`agents.behavior.shot_window`) (a ball believed out: it waits on the throw-in line;
    a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`;
    a throw-in's ball still on the throw-in line: the quickest first touch that sends it neither
    back toward the own goal nor out);
@@ -32,7 +33,8 @@ One step (40 ms) runs, from the observation only:
    striker's near its ball.
 6. **Head**: track the ball, glance at a goal when the pose is uncertain; without its own
    ball, look where the team believes it, else search: a quick look near the feet, then wide
-   sweeps; the camera is on every other step.
+   sweeps; the camera is on every other step (lining up a shot with the ball at its feet,
+   every third frame is the top camera's: it sees the goalkeeper).
 7. **Radio out**: pose, ball, role and intention every :data:`RADIO_EVERY_STEPS` steps.
 
 Variants: the localization method (``method``) and ``avoid_obstacles`` (False: the
@@ -108,10 +110,10 @@ KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within thi
 OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
 CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
-SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the open part of its mouth (shot_window)
-SHOT_TOP_FRAME_EVERY = 3  # ... and while lining a shot up, looks with the top camera every this many frames
-SHOT_MIN_AHEAD_M = 0.1  # ... when the ball lies this far in front of the goal line; nearer, between the posts ...
-POST_MARGIN_M = 0.15  # a kick whose line passes this far inside the posts may roll on toward a side line
+SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the open part of its mouth (shot_window) ...
+SHOT_MIN_AHEAD_M = 0.1  # ... with the ball this far in front of the goal line; nearer it, between the posts ...
+POST_MARGIN_M = 0.15  # ... this far inside them (a kick along such a line is a shot: it may roll on toward a side line)
+SHOT_TOP_FRAME_EVERY = 3  # lining a shot up with the ball at its feet, every this many frames come from the top camera
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
 OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
