@@ -13,7 +13,7 @@ from agents.policies import make_policy
 from agents.team.agent import TeamAgent
 from match.free_play import FreePlay
 from match.game import MatchConfig
-from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, observation_space
+from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, make_action, observation_space
 from match.runner import run_match
 from tests.user_policies import RadioFuzzer
 from world.camera_model import CameraPosition
@@ -145,6 +145,18 @@ def test_lining_up_a_shot_it_looks_ahead_with_the_top_camera_every_few_frames() 
     assert cameras.count(CameraPosition.TOP) == 2 and cameras.count(CameraPosition.BOTTOM) == 4
     agent.step += 1  # no longer lining up: the head's camera
     assert agent._frame_camera() is CameraPosition.BOTTOM
+
+
+def test_the_penalty_kicker_looks_at_the_goal_while_the_kick_is_set() -> None:
+    agent = TeamAgent()
+    agent.reset("home_1", 0)
+    obs = _observation(3, image=np.zeros((120, 160, 3), np.uint8), gyro=np.zeros(3, np.float32))
+    obs["game"].update(state=int(GameState.SET), secondary=1, kickoff=0, defended_goal=0, seconds_since_drop_in=1e9)
+    actions = [agent.act(obs) for _ in range(4)]
+    assert agent.locator.pose == pytest.approx(Pose2D(FIELD.penalty_mark_x - 0.22, 0.0, 0.0))  # behind the ball
+    stand = make_action(Motion.STAND)["motion"]
+    assert all(a["motion"] == stand and abs(float(a["head"][0])) < 0.05 for a in actions)  # the goal straight ahead
+    assert [a["camera"] for a in actions if a["camera"] != int(CameraChoice.OFF)] == [int(CameraChoice.TOP)] * 2
 
 
 @pytest.mark.render

@@ -68,6 +68,7 @@ from agents.vision.percepts import LandmarkPercept
 from agents.vision.pipeline import VisionPipeline
 from agents.vision.robots import find_robots
 from match.protocol import (
+    PENALTY_KICKER_BEHIND_BALL_M,
     THROW_IN_INSET_M,
     THROW_IN_MAX_X_M,
     AgentId,
@@ -113,6 +114,7 @@ CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
 SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the open part of its mouth (shot_window) ...
 SHOT_MIN_AHEAD_M = 0.1  # ... with the ball this far in front of the goal line; nearer it, between the posts ...
 POST_MARGIN_M = 0.15  # ... this far inside them (a kick along such a line is a shot: it may roll on toward a side line)
+PENALTY_LOOK_S = 1.5  # a penalty kicker looks at the goal this long of the kick's SET (3 s), then at the ball
 SHOT_TOP_FRAME_EVERY = 3  # lining a shot up with the ball at its feet, every this many frames come from the top camera
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
@@ -157,6 +159,7 @@ class TeamAgent:
         self.sequence = 0
         self._walk = skills.STILL
         self._state: GameState | None = None
+        self._state_since_s = 0.0  # when the game state last changed (own clock)
         self._defended: GoalColor | None = None
         self._camera = CameraPosition.TOP
         self._sweep = skills.HeadSweep()
@@ -287,6 +290,8 @@ class TeamAgent:
         """Resets at the kick-off pose (thesis 5.5) when the referee placed the robot there,
         and at the penalty kicker's or goalkeeper's pose when a shoot-out kick is set; after a
         throw-in, forgets the balls seen before it (:meth:`_throw_in`)."""
+        if obs.game.state is not self._state:
+            self._state_since_s = self.now_s
         since = obs.game.seconds_since_drop_in
         if since < self._drop_in_since_s:  # the count started again: a new throw-in
             self._throw_in(obs, since)
@@ -349,6 +354,8 @@ class TeamAgent:
             return motion, walk, head
         if state is not GameState.PLAYING:
             self.intention = Intention.NONE
+            if state is GameState.SET and _shootout(obs) and obs.game.kickoff is KickOff.OWN_TEAM:
+                head = self._penalty_look()
             return Motion.STAND, skills.STILL, head
         if obs.motion is not None and obs.motion.is_kick:
             self._kicked_s = self.now_s
@@ -571,6 +578,14 @@ class TeamAgent:
         elif ball.distance_m > skills.TOP_CAMERA_BEYOND_M:
             self._camera = CameraPosition.TOP
         return skills.look_at(ball, self._camera)
+
+    def _penalty_look(self) -> tuple[float, float]:
+        """A penalty kicker's head while the kick is set: first at the goal straight ahead (top camera), where
+        it sees the goalkeeper (:mod:`agents.behavior.shot_window`), then at the ball before its feet."""
+        if self.now_s - self._state_since_s < PENALTY_LOOK_S:
+            self._camera = CameraPosition.TOP
+            return 0.0, skills.SCAN_PITCH_RAD
+        return self._look_at(BallEstimate(PENALTY_KICKER_BEHIND_BALL_M, 0.0, 0.0, 0.0, 0.0, 0.0))
 
     def _glance(self, pose: Pose2D) -> tuple[float, float]:
         """Look at the nearer goal's centre with the top camera (its posts are the surest landmarks)."""

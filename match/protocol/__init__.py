@@ -10,6 +10,7 @@ from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side, roster
 from match.protocol.kickoff import (
     DEFENDING_POSITIONS,
     KICKING_POSITIONS,
+    PENALTY_KICKER_BEHIND_BALL_M,
     kickoff_pose,
     legal_kickoff_position,
     penalty_pose,
@@ -42,6 +43,7 @@ __all__ = [
     "MOTIONS",
     "NO_MOTION",
     "STAND",
+    "PENALTY_KICKER_BEHIND_BALL_M",
     "THROW_IN_INSET_M",
     "THROW_IN_MAX_X_M",
     "WALK_HIGH",
