@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import math
 import sys
 import time
 from dataclasses import asdict, dataclass
@@ -37,16 +36,14 @@ from match.protocol import kickoff_pose
 from match.runner import run_match
 from scenarios.cli.arguments import int_in
 from scenarios.common.io import write_json
+from scenarios.tournament.statistics import wilson_interval
 from world.field import FIELD, GoalColor
-
-log = logging.getLogger("shooting_drill")
 
 STRIKER = "home_1"
 KEEPER = "away_0"
 BALL_X_M = (0.8, 2.2)  # the ball's spot: this far into the attacking half ...
 BALL_Y_M = 1.2  # ... and at most this far from the middle
 CLEARED_X_M = -0.5  # a ball back past this line is cleared
-CONTROL_STEP_S = 0.04
 
 
 @dataclass(frozen=True)
@@ -72,7 +69,7 @@ class Referee:
 
     def done(self, match: Match) -> bool:
         ball = match.world.ball()
-        time_s = match.step_index * CONTROL_STEP_S
+        time_s = match.step_index * match.config.world.physics.control_step_s
         if ball.x > FIELD.half_length + FIELD.ball_radius:
             self.outcome = ("goal" if abs(ball.y) < FIELD.goal_inner_width / 2 else "wide", time_s)
         elif abs(ball.y) > FIELD.half_width + FIELD.ball_radius:
@@ -94,16 +91,6 @@ def play_trial(striker: str, keeper: str, seed: int, limit_s: float) -> Trial:
               observer=referee)
     outcome, time_s = referee.outcome or ("none", limit_s)
     return Trial(seed, round(ball_x, 3), round(ball_y, 3), outcome, round(time_s, 2))
-
-
-def wilson_interval(successes: int, trials: int, z: float = 1.96) -> tuple[float, float]:
-    """The 95% Wilson score interval of a share ``successes / trials``."""
-    if trials == 0:
-        return (0.0, 1.0)
-    share = successes / trials
-    centre = (share + z * z / (2 * trials)) / (1 + z * z / trials)
-    half = z * math.sqrt(share * (1 - share) / trials + z * z / (4 * trials * trials)) / (1 + z * z / trials)
-    return (max(0.0, centre - half), min(1.0, centre + half))
 
 
 def summarize(trials: list[Trial]) -> dict:

@@ -34,13 +34,6 @@ def test_a_short_drill_plays_its_trials_and_writes_them(drill, tmp_path) -> None
     assert results["summary"]["outcomes"]["none"] == 2 and results["summary"]["goal_share"] == 0.0
 
 
-def test_the_wilson_interval_holds_the_share_and_stays_in_0_1(drill) -> None:
-    assert drill.wilson_interval(0, 0) == (0.0, 1.0)
-    low, high = drill.wilson_interval(36, 40)
-    assert low < 0.9 < high and 0.0 <= low and high <= 1.0
-    assert drill.wilson_interval(40, 40)[1] == 1.0 and drill.wilson_interval(0, 40)[0] == 0.0
-
-
 @pytest.mark.parametrize("flags", [
     ["--trials", "0"], ["--trials", "nan"], ["--seconds", "601"], ["--seed", "-1"],
     ["--striker", "no_such_policy"], ["--keeper", "no.such.module:Keeper"],
