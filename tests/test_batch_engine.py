@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
 
 from scenarios.common.batch import BatchError, BatchOptions, ResultStore, execute
+from scenarios.common.termination import terminate_as_interrupt
 from tests import batch_work
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -69,3 +75,55 @@ def test_a_store_keeps_its_files_and_refuses_other_settings_naming_both(tmp_path
     fresh = ResultStore(tmp_path, fingerprint="bbbb", settings={"matches": 6, "seed": 1}, resume=False,
                         marker="marker.json", prefix="match", key="match", what="matches")
     assert fresh.load() == {}  # a fresh batch starts over
+
+
+def _worker_pids(directory: Path, count: int, timeout_s: float = 60.0) -> list[int]:
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        files = sorted(directory.glob("worker*.pid"))
+        if len(files) == count:
+            return [int(f.read_text()) for f in files]
+        time.sleep(0.1)
+    raise AssertionError(f"{count} workers did not start within {timeout_s:g} s")
+
+
+def _running(pid: int) -> bool:
+    """The process exists and is not a zombie."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, ProcessLookupError, IndexError):
+        return False
+    return state != "Z"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a worker ends with its parent on Linux")
+@pytest.mark.parametrize("stop", [signal.SIGTERM, signal.SIGKILL], ids=["sigterm", "sigkill"])
+@pytest.mark.parametrize("alone", [False, True], ids=["pool", "alone"])
+def test_a_stopped_batch_leaves_no_worker_running(tmp_path: Path, stop: signal.Signals, alone: bool) -> None:
+    """``kill`` of a batch's main process (SIGTERM: as Ctrl-C, exit code 130; SIGKILL: no cleanup at all) ends
+    its workers, in the pool and a task run alone after a crash, instead of letting them play on."""
+    if alone:
+        (tmp_path / "die-first").touch()
+    tasks = 1 if alone else 2
+    main = subprocess.Popen([sys.executable, "-c", "import sys; from tests import batch_work; "
+                             f"batch_work.run_until_stopped(sys.argv[1], {tasks})", str(tmp_path)],
+                            cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    try:
+        pids = _worker_pids(tmp_path, tasks)
+        main.send_signal(stop)
+        code = main.wait(timeout=30)
+    finally:
+        main.kill()
+    assert code == (130 if stop == signal.SIGTERM else -signal.SIGKILL)
+    deadline = time.monotonic() + 15
+    while any(_running(pid) for pid in pids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not [pid for pid in pids if _running(pid)], "workers still running after their batch was stopped"
+
+
+def test_a_sigterm_is_a_ctrl_c_within_the_block_and_the_old_handler_is_back_after() -> None:
+    before = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(KeyboardInterrupt, match="SIGTERM"), terminate_as_interrupt():
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(1)  # the handler runs at the next bytecode; never reached
+    assert signal.getsignal(signal.SIGTERM) is before

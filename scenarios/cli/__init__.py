@@ -10,6 +10,8 @@ exit code 2 before anything runs or is written. Errors of the library (a
 :class:`~world.errors.WorldError`, a :class:`~match.errors.MatchError` or a ``ValueError``
 from a bad argument or input file) end it the same way, also before anything is written; a
 file that cannot be written while the command runs ends it the same way with exit code 1.
+A SIGTERM is a Ctrl-C (``KeyboardInterrupt``): a tournament or a scenario batch stops its
+workers and keeps its finished tasks for ``--resume`` (exit code 130).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from scenarios.cli.arguments import (
     one_line,
     verbose_flag,
 )
+from scenarios.common.termination import terminate_as_interrupt
 from world.errors import WorldError
 
 __all__ = ["EXIT_FAILED", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_USAGE", "SUBCOMMANDS", "build_parser", "main"]
@@ -65,7 +68,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     handler: Handler = args.handler
     try:
-        return handler(args)
+        with terminate_as_interrupt():  # ``kill PID`` stops a command as Ctrl-C does
+            return handler(args)
     except (WorldError, MatchError, ValueError) as error:
         print(f"robotstadium {args.command}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_USAGE

@@ -12,11 +12,11 @@ from typing import NoReturn
 
 from scenarios.cli.outputs import output_problem
 from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN
+from scenarios.common.termination import EXIT_INTERRUPTED
 
 EXIT_OK = 0
 EXIT_FAILED = 1
-EXIT_USAGE = 2
-EXIT_INTERRUPTED = 130  # Ctrl-C, as shells report it
+EXIT_USAGE = 2  # EXIT_INTERRUPTED (130): a Ctrl-C or a SIGTERM
 
 Handler = Callable[[argparse.Namespace], int]
 

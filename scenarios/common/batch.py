@@ -18,8 +18,10 @@ or Ray, every result kept as it arrives, resumable.
   damaged outside the batch: a resumed batch refuses it, naming the file, before anything
   is written, rather than overwrite it; :func:`check_fields` checks a record's keys.
 
-A Ctrl-C (``KeyboardInterrupt``) stops the batch: tasks not finished are cancelled, the
-results already yielded (and stored by the caller) are kept for ``--resume``.
+A Ctrl-C (``KeyboardInterrupt``; under the command line a SIGTERM too) stops the batch: tasks
+not finished are cancelled, the worker processes are stopped (:mod:`scenarios.common.termination`)
+and the results already yielded (and stored by the caller) are kept for ``--resume``. A
+worker process ends with the process that started it, even one killed by SIGKILL.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from pathlib import Path
 from typing import Any
 
 from scenarios.common.io import write_text, write_text_atomic
+from scenarios.common.termination import end_interrupted, parent_alive, prepare_worker, stop_processes
 
 log = logging.getLogger(__name__)
 
@@ -164,7 +167,7 @@ def _run_pool(context, ticks, waiting: collections.deque, work: Work, workers: i
     broken = False
     try:
         with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context,
-                                                    initializer=_init_worker, initargs=(ticks,)) as pool:
+                                                    initializer=_init_worker, initargs=(ticks, os.getpid())) as pool:
             running: dict[concurrent.futures.Future, Any] = {}
             try:
                 while running or (waiting and not broken):
@@ -188,9 +191,12 @@ def _run_pool(context, ticks, waiting: collections.deque, work: Work, workers: i
                             yield TaskResult(task, error=describe_error(error))
                         else:
                             yield TaskResult(task, value)
-            except BaseException:
+            except BaseException:  # a Ctrl-C or a SIGTERM (see termination): no task goes on
                 for future in running:
                     future.cancel()
+                workers_now = list((getattr(pool, "_processes", None) or {}).values())
+                pool.shutdown(wait=False, cancel_futures=True)  # each worker ends after its task
+                stop_processes(workers_now)  # which a SIGTERM interrupts
                 raise
     finally:
         _drain(ticks, progress)  # the workers have exited: their last ticks are in the queue
@@ -200,7 +206,7 @@ def _run_alone(context, ticks, work: Work, task: Any, progress: Progress, label:
     """One task in a fresh process of its own: its result, its error, or how the process died."""
     receive, send = context.Pipe(duplex=False)
     # not daemonic: its match may start controller processes
-    process = context.Process(target=_work_alone, args=(work, task, ticks, send))
+    process = context.Process(target=_work_alone, args=(work, task, ticks, send, os.getpid()))
     process.start()
     send.close()  # the child holds the only sending end: its death reads as end of file
     message = None
@@ -214,8 +220,7 @@ def _run_alone(context, ticks, work: Work, task: Any, progress: Progress, label:
                     break
         process.join()
     except BaseException:
-        process.terminate()
-        process.join()
+        stop_processes([process])
         raise
     finally:
         receive.close()
@@ -239,11 +244,13 @@ def _exit_text(code: int | None) -> str:
 
 
 _worker_queue = None
+_worker_parent = None
 
 
-def _init_worker(ticks) -> None:
-    global _worker_queue
-    _worker_queue = ticks
+def _init_worker(ticks, parent_pid: int) -> None:
+    global _worker_queue, _worker_parent
+    prepare_worker(parent_pid)
+    _worker_queue, _worker_parent = ticks, parent_pid
 
 
 def _tick(*_: object) -> None:
@@ -253,15 +260,23 @@ def _tick(*_: object) -> None:
 
 
 def _work_in_worker(work: Work, task: Any) -> Any:
-    return work(task, _tick)
+    try:
+        return work(task, _tick)
+    except KeyboardInterrupt:  # stopped: the task has cleaned up on its way here
+        if parent_alive(_worker_parent):
+            raise  # to the parent, which shuts the pool down
+        end_interrupted()  # the parent is gone: no pool to wait for
 
 
-def _work_alone(work: Work, task: Any, ticks, send) -> None:
-    _init_worker(ticks)
+def _work_alone(work: Work, task: Any, ticks, send, parent_pid: int) -> None:
+    _init_worker(ticks, parent_pid)
     try:
         value = work(task, _tick)
     except Exception as error:
         send.send(("error", describe_error(error)))
+    except KeyboardInterrupt:
+        send.close()
+        end_interrupted()
     else:
         send.send(("ok", value))
     finally:
