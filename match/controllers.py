@@ -343,16 +343,15 @@ class _Controller:
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
         parent, child = self._context.Pipe()
-        self.process = self._context.Process(target=serve, args=(child, self.factories, self.images.buffer),
-                                             daemon=True, name=f"controller {','.join(self.agents)}")
+        process = self._context.Process(target=serve, args=(child, self.factories, self.images.buffer),
+                                        daemon=True, name=f"controller {','.join(self.agents)}")
         try:
-            self.process.start()
+            process.start()  # kept only once started: a Ctrl-C or SIGTERM in here leaves nothing to stop
         except Exception as error:  # no process could be started: the robots stand
-            self.process = None
             return [PolicyFault.of(a, error) for a in self.agents]
         finally:
             child.close()
-        self.conn, self.ready, self.busy = parent, False, False
+        self.process, self.conn, self.ready, self.busy = process, parent, False, False
         return self._send(("reset", self.seeds))
 
     def ask(self, observations: Mapping[str, Mapping[str, Any]]) -> list[PolicyFault]:
@@ -489,8 +488,16 @@ class _Controller:
 
 def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer) -> None:
     """A controller process's loop: build the policies, then answer resets and steps until told to close
-    (``image_buffer``: the controller's :class:`~match.shared_images.SharedImages` buffer)."""
+    (``image_buffer``: the controller's :class:`~match.shared_images.SharedImages` buffer), or until the
+    simulator's end of ``conn`` is closed (it stopped, or was stopped, without a word): then it ends quietly."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the simulator's to handle
+    try:
+        _answer(conn, factories, image_buffer)
+    except (EOFError, BrokenPipeError, ConnectionResetError):
+        return
+
+
+def _answer(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer) -> None:
     policies: dict[str, Policy] = {}
     broken: dict[str, str] = {}
     for agent, factory in factories.items():

@@ -254,3 +254,32 @@ def test_every_command_prints_its_help(command: str, capsys: pytest.CaptureFixtu
     with pytest.raises(SystemExit) as exit_info:
         cli.main([command, "--help"])
     assert exit_info.value.code == 0 and command in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("delay_s", [0.0, 3.0], ids=["starting", "playing"])
+def test_a_sigterm_stops_a_match_as_ctrl_c_does_and_leaves_its_outputs(tmp_path: Path, delay_s: float) -> None:
+    """``kill PID`` of ``robotstadium match``, while its controllers start or while it plays: exit code 130,
+    a one-line message, and the outputs of what was played (``summary.json`` with ``completed`` false), as
+    after Ctrl-C."""
+    import signal
+    import time
+
+    out = tmp_path / "match"
+    command = [sys.executable, "-m", "scenarios.cli", "match", "--home-players", "1", "--away-players", "1",
+               "--half-seconds", "60", "--no-progress", "--no-replay", "--out", str(out)]
+    root = Path(__file__).resolve().parents[1]
+    match = subprocess.Popen(command, cwd=root, env={**os.environ, "PYTHONPATH": str(root)},
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not (out / "events.jsonl").exists() and time.monotonic() < deadline:  # the match is being set up
+            time.sleep(0.1)
+        time.sleep(delay_s)
+        match.send_signal(signal.SIGTERM)
+        _, stderr = match.communicate(timeout=60)
+    finally:
+        match.kill()
+    assert match.returncode == 130, stderr
+    assert "robotstadium match: interrupted" in stderr and "Traceback" not in stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["completed"] is False and summary["stopped_reason"] == "interrupted"

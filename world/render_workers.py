@@ -158,7 +158,15 @@ class RenderWorker:
 
 
 def serve(conn: Connection, robots: list[RobotSpec], config: WorldConfig, buffer) -> None:
-    """The worker's loop: build the world, then draw the frames it is asked for until told to close."""
+    """The worker's loop: build the world, then draw the frames it is asked for until told to close, or until
+    the simulator's end of ``conn`` is closed (it stopped, or was stopped, without a word): then it ends quietly."""
+    try:
+        _draw_frames(conn, robots, config, buffer)
+    except (EOFError, BrokenPipeError, ConnectionResetError):
+        return
+
+
+def _draw_frames(conn: Connection, robots: list[RobotSpec], config: WorldConfig, buffer) -> None:
     from world.world import World  # the world imports this module
 
     frames = np.frombuffer(buffer, dtype=np.uint8).reshape(-1, *FRAME_SHAPE)

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from agents.policies import DEFAULT_POLICY
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM
 from scenarios.cli.arguments import (
+    EXIT_INTERRUPTED,
     EXIT_OK,
     HALF_SECONDS_MAX,
     HALF_SECONDS_MIN,
@@ -75,12 +77,17 @@ def run(args: argparse.Namespace) -> int:
     if twice:
         raise ValueError(f"--policy names {', '.join(twice)} more than once")
     lineup = Lineup(args.home, args.away, dict(args.policy))
-    summary = run_lineup_match(
-        args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
-        seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
-        controllers=controller_limits(args),
-        render_workers=default_render_workers() if args.render_workers is None else args.render_workers,
-    )
+    try:
+        summary = run_lineup_match(
+            args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
+            seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
+            controllers=controller_limits(args),
+            render_workers=default_render_workers() if args.render_workers is None else args.render_workers,
+        )
+    except KeyboardInterrupt:
+        print(f"robotstadium match: interrupted; what was played is in {args.out} "
+              "(summary.json: completed false)", file=sys.stderr)
+        return EXIT_INTERRUPTED
     score = summary.score
     result = f"home {score['home']} - {score['away']} away"
     if summary.shootout:
