@@ -16,7 +16,8 @@ from scenarios.common.termination import EXIT_INTERRUPTED
 
 EXIT_OK = 0
 EXIT_FAILED = 1
-EXIT_USAGE = 2  # EXIT_INTERRUPTED (130): a Ctrl-C or a SIGTERM
+EXIT_USAGE = 2
+# EXIT_INTERRUPTED (130: a Ctrl-C or a SIGTERM) is scenarios.common.termination's
 
 Handler = Callable[[argparse.Namespace], int]
 
