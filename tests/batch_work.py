@@ -48,9 +48,8 @@ def waits_long(task: tuple[str, int], tick=None) -> int:
 
 
 def run_until_stopped(directory: str, tasks: int) -> None:
-    """A main process as the command line runs one: ``tasks`` long tasks on two worker processes, a SIGTERM as a
-    Ctrl-C,
-    exit code 130 when interrupted."""
+    """A main process as the command line runs one: ``tasks`` long tasks on two worker processes, a SIGTERM
+    as a Ctrl-C, exit code 130 when interrupted."""
     with terminate_as_interrupt():
         try:
             list(execute([(directory, index) for index in range(tasks)], waits_long, BatchOptions(workers=2),

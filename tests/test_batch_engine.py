@@ -96,7 +96,7 @@ def _running(pid: int) -> bool:
     return state != "Z"
 
 
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="a worker ends with its parent on Linux")
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 @pytest.mark.parametrize("stop", [signal.SIGTERM, signal.SIGKILL], ids=["sigterm", "sigkill"])
 @pytest.mark.parametrize("alone", [False, True], ids=["pool", "alone"])
 def test_a_stopped_batch_leaves_no_worker_running(tmp_path: Path, stop: signal.Signals, alone: bool) -> None:

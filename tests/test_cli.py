@@ -5,8 +5,10 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import cv2
@@ -261,9 +263,6 @@ def test_a_sigterm_stops_a_match_as_ctrl_c_does_and_leaves_its_outputs(tmp_path:
     """``kill PID`` of ``robotstadium match``, while its controllers start or while it plays: exit code 130,
     a one-line message, and the outputs of what was played (``summary.json`` with ``completed`` false), as
     after Ctrl-C."""
-    import signal
-    import time
-
     out = tmp_path / "match"
     command = [sys.executable, "-m", "scenarios.cli", "match", "--home-players", "1", "--away-players", "1",
                "--half-seconds", "60", "--no-progress", "--no-replay", "--out", str(out)]
