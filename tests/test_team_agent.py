@@ -349,6 +349,50 @@ def test_a_clearing_goes_along_its_aim_never_toward_its_own_goal_and_is_pushed_n
 
 
 @pytest.mark.parametrize("attack", [1.0, -1.0])
+def test_a_ball_on_their_goal_line_is_pushed_in_past_the_post_or_back_out_in_front_of_the_goal(attack: float) -> None:
+    """Found in a match: the ball on the goal line just inside a post, the striker 0.3 m from it
+    facing the goal 12 degrees off its axis; aiming at the goal's centre (along the line) it
+    circled the ball into an opponent standing at the post and stood there for 150 s. Now it
+    walks the ball in from where it stands, and a ball beside the goal is pushed back out in
+    front of it from beyond the end line."""
+    from agents.behavior.aim import POST_CLEARANCE_M, kick_aim
+    from agents.behavior.skills import PUSH_MPS, behind_point
+
+    goal_x = attack * FIELD.half_length
+    ball = (goal_x - attack * 0.06, -0.65)  # where it lay, in the frame where the robot attacks -x
+    aim = kick_aim(ball, attack, robot_y=-0.8)
+    assert aim.push and not aim.clearing and attack * (aim.x - goal_x) > 0.0 and aim.y == 0.0  # inside the goal
+    theta = 2.93 if attack < 0 else math.pi - 2.93  # 12 degrees off the line's normal, toward the goal's axis
+    c, s = math.cos(theta), math.sin(theta)
+    at_foot = (0.14, 0.05)  # the ball before its left foot, within kicking distance
+    pose = Pose2D(ball[0] - c * at_foot[0] + s * at_foot[1], ball[1] - s * at_foot[0] - c * at_foot[1], theta)
+    agent = TeamAgent()
+    agent.reset("away_1", 0)
+    motion, walk, _ = agent._strike(pose, BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.02, 0.0), None, attack,
+                                    (0.0, 0.0))
+    assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)  # walks it in ...
+    y_at_line = ball[1] + math.tan(theta) * (goal_x - ball[0])
+    assert abs(y_at_line) < FIELD.goal_post_y - POST_CLEARANCE_M  # ... past the post
+    far = Pose2D(attack * 1.0, 0.0, theta)
+    motion, walk, _ = agent._strike(far, BallEstimate(*_to_robot(far, ball), 0.0, 0.0, 0.02, 0.0), None, attack,
+                                    (0.0, 0.0))
+    assert motion is Motion.WALK and any(walk)  # from afar it goes to the ball
+
+    beside = (goal_x - attack * 0.05, -0.9)
+    aim = kick_aim(beside, attack, robot_y=-1.2)
+    assert aim.push and aim.clearing and abs(aim.x) < abs(goal_x) and aim.y == 0.0  # back out, toward the goal's axis
+    spot = behind_point(beside, aim.xy)
+    assert attack * (spot.x - goal_x) > 0.0  # the spot to push it from lies beyond the end line ...
+    assert abs(spot.y) > FIELD.goal_post_y + FIELD.goal_post_diameter  # ... clear of the goal
+    pose = Pose2D(beside[0] - math.cos(spot.theta) * 0.14 + math.sin(spot.theta) * 0.05,
+                  beside[1] - math.sin(spot.theta) * 0.14 - math.cos(spot.theta) * 0.05, spot.theta)
+    agent._own_goal_ahead_s = agent.now_s  # its own goal, 5.5 m away, straight ahead: no danger to a push
+    motion, walk, _ = agent._strike(pose, BallEstimate(*_to_robot(pose, beside), 0.0, 0.0, 0.02, 0.0), None, attack,
+                                    (0.0, 0.0))
+    assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)
+
+
+@pytest.mark.parametrize("attack", [1.0, -1.0])
 @pytest.mark.parametrize("line_y", [1.6, -1.6])
 def test_a_throw_in_first_touch_goes_neither_back_nor_out(attack: float, line_y: float) -> None:
     """From anywhere round a ball on the throw-in line, the first touch's aim never points back toward

@@ -9,6 +9,15 @@ a kick's roll would otherwise leave the field and the spot behind the ball still
 front of the line. Within :data:`PUSH_DEPTH_M` of the line the ball is pushed there, not
 kicked: a kick that goes astray so near the goal is a goal.
 
+A ball on the opponent goal line (within :data:`GOAL_LINE_BAND_M`) is no shot for the goal's
+centre: the line to it runs along the goal line, so the spot behind the ball lies beside it
+and the striker circles the ball (once seen for 150 s, blocked there by an opponent at the
+post). Between the posts, far enough inside them for the ball to pass
+(:data:`POST_CLEARANCE_M`), it is pushed into the goal toward a point inside it
+(:data:`GOAL_LINE_AIM_DEPTH_M`), which the robot faces from the field; beside the goal, where
+no line into it passes the post, it is pushed back out in front of the goal
+(:data:`CUTBACK_M`), from a spot behind the ball on the carpet beyond the end line.
+
 A throw-in's first touch (:func:`restart_aim`) is played the way the robot already comes at
 the ball, turned only as far as needed to keep it from going back toward the own goal or
 along or out over the near side line: the quick touch that puts the ball back in play,
@@ -36,14 +45,19 @@ BEHIND_MIN_DEPTH_M = 0.05  # ... as long as the spot behind the ball stays this 
 PUSH_DEPTH_M = 0.4  # ours: nearer the line, a kick gone astray (back between the feet) is a goal: push
 AIM_DISTANCE_M = 2.0  # the aim point of a clearing lies this far from the ball
 CENTRE_BAND_M = 0.2  # a ball this near the goal's axis is cleared away from the robot's side
+GOAL_LINE_BAND_M = 0.1  # theirs: a ball nearer their goal line than this is on it ...
+POST_CLEARANCE_M = FIELD.goal_post_diameter / 2 + FIELD.ball_radius  # ... pushed in when it passes a post by this
+GOAL_LINE_AIM_DEPTH_M = 0.25  # ... toward the goal's axis this deep inside the goal ...
+CUTBACK_M = 0.5  # ... or, beside the goal, pushed back to the goal's axis this far in front of its line
 RESTART_OFF_LINE_RAD = math.radians(10.0)  # ours: a throw-in's first touch turns at least this far off the line ...
 RESTART_INTO_FIELD_RAD = math.radians(90.0)  # ... and at most square into the field (never back toward the own goal)
 
 
 @dataclass(frozen=True)
 class Aim:
-    """Where to play the ball (field frame, m); whether it is a clearing, and whether the ball
-    lies so near the own goal line (:data:`PUSH_DEPTH_M`) that it is pushed, not kicked."""
+    """Where to play the ball (field frame, m); whether it is a clearing (played along the aim,
+    not shot), and whether the ball lies so near a goal line (:data:`PUSH_DEPTH_M`,
+    :data:`GOAL_LINE_BAND_M`) that it is pushed, not kicked."""
 
     x: float
     y: float
@@ -60,6 +74,8 @@ def kick_aim(ball_xy: tuple[float, float], attack: float, robot_y: float) -> Aim
     ball lies in front of the own goal (see the module). ``robot_y``: the robot's y, which decides
     the side a ball on the goal's axis is cleared to (away from the robot)."""
     bx, by = ball_xy
+    if on_their_goal_line(ball_xy, attack):
+        return _goal_line_aim(by, attack)
     depth = attack * bx + FIELD.half_length  # from the own goal line into the field
     if depth >= CLEAR_DEPTH_M or abs(by) > CLEAR_HALF_WIDTH_M:
         return Aim(attack * FIELD.half_length, 0.0, False)
@@ -68,6 +84,18 @@ def kick_aim(ball_xy: tuple[float, float], attack: float, robot_y: float) -> Aim
     else:
         side = 1.0 if by >= robot_y else -1.0
     return Aim(*_clearing_point(bx, by, depth, attack, side), True, depth < PUSH_DEPTH_M)
+
+
+def on_their_goal_line(ball_xy: tuple[float, float], attack: float) -> bool:
+    """Whether a ball at ``ball_xy`` lies within :data:`GOAL_LINE_BAND_M` of the opponent goal line."""
+    return FIELD.half_length - attack * ball_xy[0] < GOAL_LINE_BAND_M
+
+
+def _goal_line_aim(by: float, attack: float) -> Aim:
+    """A ball on the opponent goal line: pushed in between the posts, or back out in front of the goal."""
+    if abs(by) < FIELD.goal_post_y - POST_CLEARANCE_M:
+        return Aim(attack * (FIELD.half_length + GOAL_LINE_AIM_DEPTH_M), 0.0, False, True)
+    return Aim(attack * (FIELD.half_length - CUTBACK_M), 0.0, True, True)
 
 
 def _clearing_point(bx: float, by: float, depth: float, attack: float, side: float) -> tuple[float, float]:

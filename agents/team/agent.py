@@ -50,7 +50,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from agents.behavior import paths, skills
-from agents.behavior.aim import Aim, kick_aim, restart_aim
+from agents.behavior.aim import POST_CLEARANCE_M, Aim, kick_aim, on_their_goal_line, restart_aim
 from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.behavior.unjam import Unjammer
@@ -112,8 +112,8 @@ OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen wit
 OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
 CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
 SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the open part of its mouth (shot_window) ...
-SHOT_MIN_AHEAD_M = 0.1  # ... with the ball this far in front of the goal line; nearer it, between the posts ...
-POST_MARGIN_M = 0.15  # ... this far inside them (a kick along such a line is a shot: it may roll on toward a side line)
+POST_MARGIN_M = 0.15  # ... or, without one, between the posts this far inside them (a kick along such a line is a
+# shot: it may roll on toward a side line); a ball on their goal line is pushed in (agents.behavior.aim)
 PENALTY_LOOK_S = 1.5  # a penalty kicker looks at the goal this long of the kick's SET (3 s), then at the ball
 SHOT_TOP_FRAME_EVERY = 3  # lining a shot up with the ball at its feet, every this many frames come from the top camera
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
@@ -432,8 +432,9 @@ class TeamAgent:
             ball_xy = _into_field(ball_xy)  # not put back: it lies on a line, believed a little beyond it
         aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
         shot = None
-        if (not aim.clearing and math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M
-                and attack * (goal_x - ball_xy[0]) > SHOT_MIN_AHEAD_M):
+        goal_line = on_their_goal_line(ball_xy, attack)
+        if (not aim.clearing and not goal_line
+                and math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M):
             shot = shot_window(ball_xy, goal_x, self._robots_in_field(pose), self._shot_direction_rad)
             self._shot_direction_rad = shot.direction_rad
             if ball_rel is not None and ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
@@ -457,11 +458,11 @@ class TeamAgent:
             motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
             return motion, walk, head
         if motion.is_kick:
-            if not self._may_kick(pose, ball_xy, goal_x, heading_error, aim.clearing, shot):
+            if not self._may_kick(pose, ball_xy, goal_x, heading_error, aim.clearing, shot, goal_line):
                 motion, walk = Motion.WALK, skills.orbit(ball_rel, heading_error or 0.3)
             else:
                 self.intention = Intention.KICK
-                if aim.push:  # just in front of its own goal a kick gone wrong is a goal: push the ball away
+                if aim.push:  # at a goal line a kick gone wrong is a goal, or a miss: push the ball
                     motion, walk = Motion.WALK, skills.push(ball_rel)
         return motion, walk, head
 
@@ -514,15 +515,19 @@ class TeamAgent:
         return self.role is Role.STRIKER and ball is not None and ball.distance_m < CONTEST_BALL_M
 
     def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float,
-                  clearing: bool = False, shot: ShotWindow | None = None) -> bool:
+                  clearing: bool = False, shot: ShotWindow | None = None, goal_line: bool = False) -> bool:
         """Facing the opponent goal by the pose (in shooting range, ``shot``: within the open part of
         its mouth, :mod:`agents.behavior.shot_window`; the kick goes where the robot faces), not the
         own goal by the eyes, not out over a side line within a kick's roll; a clearing from the own
         goal mouth (:mod:`agents.behavior.aim`) only faces its aim (``heading_error``) and may go
-        out: a throw-in there is no goal."""
+        out: a throw-in there is no goal. On their goal line (``goal_line``) the push in need only
+        pass the posts by :data:`agents.behavior.aim.POST_CLEARANCE_M`, and the push back out in
+        front of their goal (a clearing there) is no danger to the own goal, 5.5 m away, whatever
+        the eyes see."""
         if clearing:
-            return abs(heading_error) <= KICK_ALIGN_RAD and self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S
-        on_target = _on_target(pose.theta, ball_xy, goal_x)
+            aligned = abs(heading_error) <= KICK_ALIGN_RAD
+            return aligned and (goal_line or self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S)
+        on_target = _on_target(pose.theta, ball_xy, goal_x, POST_CLEARANCE_M if goal_line else POST_MARGIN_M)
         if shot is not None:
             if not shot.allows(pose.theta):
                 return False
@@ -643,14 +648,14 @@ class TeamAgent:
         return self._seen_landmarks[1]
 
 
-def _on_target(heading_rad: float, ball_xy: tuple[float, float], goal_x: float) -> bool:
+def _on_target(heading_rad: float, ball_xy: tuple[float, float], goal_x: float, margin_m: float) -> bool:
     """Whether a ball kicked along ``heading_rad`` from ``ball_xy`` crosses the goal line at
-    ``goal_x`` between the posts (field frame)."""
+    ``goal_x`` between the posts, ``margin_m`` inside their centres at least (field frame)."""
     toward = math.cos(heading_rad) * (goal_x - ball_xy[0])
     if toward <= 0.0:
         return False
     y_at_line = ball_xy[1] + math.tan(heading_rad) * (goal_x - ball_xy[0])
-    return abs(y_at_line) < FIELD.goal_post_y - POST_MARGIN_M
+    return abs(y_at_line) < FIELD.goal_post_y - margin_m
 
 
 def _shootout(obs: Observation) -> bool:
