@@ -450,6 +450,35 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal() -
         assert not motion.is_kick and walk[2] != 0.0, theta  # round the ball, never through it
 
 
+def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_aim() -> None:
+    """Coming at a throw-in's ball along the first touch's aim, 0.25 m from it: five seconds after the
+    throw-in the striker walks on through the ball at full speed; a second after it, it slows down and
+    side-steps the ball to a foot for a kick, as in open play. Facing the side line instead, it never
+    pushes the ball out."""
+    from agents.behavior.skills import PUSH_MPS
+    from agents.team.agent import LATE_TOUCH_AFTER_S
+
+    ball_xy, way = (0.5, 1.6), math.radians(-30.0)  # 30 degrees into the field from the side line at +y
+    pose = Pose2D(ball_xy[0] - 0.25 * math.cos(way), ball_xy[1] - 0.25 * math.sin(way), way)
+
+    def strike(after_s: float, robot: Pose2D) -> tuple[Motion, tuple[float, float, float]]:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent._drop_in_at_s = agent.now_s - after_s
+        ball = BallEstimate(*_to_robot(robot, ball_xy), 0.0, 0.0, 0.02, 0.0)
+        motion, walk, _ = agent._strike(robot, ball, None, 1.0, (0.0, 0.0))
+        return motion, walk
+
+    motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, pose)
+    assert motion is Motion.WALK and walk == pytest.approx((PUSH_MPS, 0.0, 0.0), abs=1e-6)
+    motion, walk = strike(1.0, pose)
+    assert motion is Motion.WALK and walk[0] < PUSH_MPS and walk[1] != 0.0
+    toward_line = Pose2D(ball_xy[0], ball_xy[1] - 0.25, math.pi / 2)
+    motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, toward_line)
+    assert not (motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0)  # round the ball, not through it
+
+
 def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() -> None:
     """A ball resting on the side line, believed 0.12 m beyond it: the striker waits on the throw-in
     line for the referee at first, but once the ball was believed out for longer than the referee

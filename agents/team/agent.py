@@ -128,6 +128,10 @@ QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the
 QUICK_TOUCH_BAND_M = 0.3  # ... (this near it) the striker takes the quickest safe first touch (agents.behavior.aim)
 QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick,
 QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
+LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball ...
+LATE_TOUCH_WITHIN_M = 0.5  # ... and has it this near, ...
+LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, facing the touch's aim within QUICK_PUSH_RAD,
+# walks on through it (a push): no slowing down, no side-step to a foot, no kick (together about 1.5 s)
 LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
 SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
 
@@ -453,6 +457,9 @@ class TeamAgent:
                 motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, aim.xy))
             return motion, walk, head
         heading_error = _heading_error(pose, ball_xy, aim.xy)
+        if quick and self._late_touch(ball_rel, heading_error):
+            self.intention = Intention.KICK
+            return Motion.WALK, skills.push(ball_rel), head
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick and quick:
             motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
@@ -473,6 +480,17 @@ class TeamAgent:
             return False  # its first touch is taken
         line_y = FIELD.half_width - THROW_IN_INSET_M
         return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
+
+    def _late_touch(self, ball_rel: BallEstimate, heading_error: float) -> bool:
+        """Whether a throw-in's first touch is late (:data:`LATE_TOUCH_AFTER_S`) and the striker comes at the
+        ball along the touch's aim: then it walks on through the ball (from kicking distance on, that push is
+        its first touch)."""
+        if (self.now_s - self._drop_in_at_s < LATE_TOUCH_AFTER_S or ball_rel.distance_m >= LATE_TOUCH_WITHIN_M
+                or abs(ball_rel.bearing_rad) >= LATE_TOUCH_BEARING_RAD or abs(heading_error) > QUICK_PUSH_RAD):
+            return False
+        if ball_rel.distance_m < skills.KICK_DISTANCE_M and self._first_touch_s < self._drop_in_at_s:
+            self._first_touch_s = self.now_s
+        return True
 
     def _first_touch(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
                      goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float,
