@@ -394,30 +394,37 @@ def test_a_ball_on_their_goal_line_is_pushed_in_past_the_post_or_back_out_in_fro
 
 @pytest.mark.parametrize("attack", [1.0, -1.0])
 @pytest.mark.parametrize("line_y", [1.6, -1.6])
-def test_a_throw_in_first_touch_goes_neither_back_nor_out(attack: float, line_y: float) -> None:
-    """From anywhere round a ball on the throw-in line, the first touch's aim never points back toward
-    the own goal and turns at least 10 degrees off the near side line into the field; a robot already
-    coming at the ball that way keeps its way."""
-    from agents.behavior.aim import RESTART_INTO_FIELD_RAD, RESTART_OFF_LINE_RAD, restart_aim
+@pytest.mark.parametrize("half", ["own", "theirs"])
+def test_a_throw_in_first_touch_goes_neither_out_nor_back_in_its_own_half(attack: float, line_y: float,
+                                                                         half: str) -> None:
+    """Whichever way a robot would play a ball on the throw-in line, the first touch's aim turns at
+    least 10 degrees off the near side line into the field, and in its own half never back toward
+    its own goal; a way within those bounds is kept, one outside goes to the nearer bound."""
+    from agents.behavior.aim import RESTART_BACK_RAD, RESTART_INTO_FIELD_RAD, RESTART_OFF_LINE_RAD, restart_aim
 
-    ball = (0.5, line_y)
+    ball = (attack * (-0.5 if half == "own" else 0.5), line_y)
     side = math.copysign(1.0, line_y)
-    for bearing in np.radians(np.arange(0.0, 360.0, 15.0)):
-        robot = (ball[0] + 0.8 * math.cos(bearing), ball[1] + 0.8 * math.sin(bearing))
-        aim = restart_aim(ball, robot, attack)
+    most = RESTART_INTO_FIELD_RAD if half == "own" else RESTART_BACK_RAD
+    for heading in np.radians(np.arange(0.0, 360.0, 15.0)):
+        aim = restart_aim(ball, heading, attack)
         forward, toward_line = attack * (aim.x - ball[0]), side * (aim.y - ball[1])
         way = math.atan2(toward_line, forward)
-        assert -RESTART_INTO_FIELD_RAD - 1e-9 <= way <= -RESTART_OFF_LINE_RAD + 1e-9, math.degrees(bearing)
-        coming = math.atan2(side * (ball[1] - robot[1]), attack * (ball[0] - robot[0]))
-        if -RESTART_INTO_FIELD_RAD <= coming <= -RESTART_OFF_LINE_RAD:
-            assert way == pytest.approx(coming)
+        assert -most - 1e-9 <= way <= -RESTART_OFF_LINE_RAD + 1e-9, math.degrees(heading)
+        wanted = math.atan2(side * math.sin(heading), attack * math.cos(heading))
+        if -most <= wanted <= -RESTART_OFF_LINE_RAD:
+            assert way == pytest.approx(wanted)
+        else:
+            bounds = (-RESTART_OFF_LINE_RAD, -most)
+            nearer = min(bounds, key=lambda bound: abs(math.remainder(wanted - bound, math.tau)))
+            assert way == pytest.approx(nearer), math.degrees(heading)
 
 
-def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal() -> None:
+def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal_in_its_own_half() -> None:
     """Just after a throw-in, a striker at the ball facing along the side line toward the opponent half
     (the goal far off to the side) plays it at once, and a second later plays on as in open play
-    (pushing on drifted the ball out); facing its own goal or the line it turns round the ball
-    first; ten seconds later the same striker at the same ball plays as in open play."""
+    (pushing on drifted the ball out); facing the line, or its own goal in its own half, it turns
+    round the ball first; in the opponent half it may push it back along the line; ten seconds
+    later the same striker at the same ball plays as in open play."""
     from agents.team.agent import DT_S, QUICK_PUSH_S, QUICK_TOUCH_S
 
     ball_xy = (0.5, 1.6)
@@ -445,9 +452,56 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal() -
     assert not motion.is_kick and walk[2] != 0.0  # then open play: it turns round the ball to face the goal
     motion, walk = strike(after_throw_in(QUICK_TOUCH_S + 1.0), along)
     assert not motion.is_kick and walk[2] != 0.0  # open play
-    for theta in (math.pi, math.radians(100.0)):  # its own goal, the side line
-        motion, walk = strike(after_throw_in(1.0), Pose2D(along.x, along.y, theta))
-        assert not motion.is_kick and walk[2] != 0.0, theta  # round the ball, never through it
+    motion, walk = strike(after_throw_in(1.0), Pose2D(along.x, along.y, math.radians(100.0)))
+    assert not motion.is_kick and walk[2] != 0.0  # facing the side line: round the ball, never through it
+    own_half = Pose2D(-along.x, along.y, math.pi)  # facing its own goal, in its own half
+    agent = after_throw_in(1.0)
+    motion, walk, _ = agent._strike(own_half, ball, None, 1.0, (0.0, 0.0))
+    assert not motion.is_kick and walk[2] != 0.0  # round the ball
+    agent = after_throw_in(1.0)  # in the opponent half a push back along the line (10 degrees into the field)
+    motion, walk = strike(agent, Pose2D(along.x, along.y, math.pi + math.radians(10.0)))
+    assert motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0
+
+
+def test_a_striker_beside_a_throw_in_s_ball_steps_to_it_without_turning_to_it() -> None:
+    """The ball put on the throw-in line 0.3 m to the left of a striker that faces along the line into
+    the field: it steps back and left to put the ball before its left foot, facing the way it faces
+    (once it turned to the ball and orbited back, 6 s), then touches it."""
+    from agents.behavior import skills
+
+    ball_xy = (0.5, 1.6)
+    pose = Pose2D(0.48, 1.3, math.radians(-20.0))  # facing forward (attack +x), 20 degrees into the field
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    agent.step = 1000
+    agent._drop_in_at_s = agent.now_s - 1.0
+    ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
+    assert ball.bearing_rad > math.radians(60.0)
+    motion, (vx, vy, omega), _ = agent._strike(pose, ball, None, 1.0, (0.0, 0.0))
+    assert motion is Motion.WALK and vx < 0.0 and vy > 0.0 and omega == pytest.approx(0.0)
+    at_foot = Pose2D(ball_xy[0] - 0.14 * math.cos(pose.theta) + 0.05 * math.sin(pose.theta),
+                     ball_xy[1] - 0.14 * math.sin(pose.theta) - 0.05 * math.cos(pose.theta), pose.theta)
+    ball = BallEstimate(*_to_robot(at_foot, ball_xy), 0.0, 0.0, 0.02, 0.0)
+    assert skills.at_kick_spot(ball)
+    motion, walk, _ = agent._strike(at_foot, ball, None, 1.0, (0.0, 0.0))
+    assert motion.is_kick or (motion is Motion.WALK and walk == pytest.approx(skills.push(ball)))
+
+
+def test_a_striker_on_the_opponent_side_of_a_throw_in_s_ball_plays_it_back_along_the_line() -> None:
+    """The ball put on the throw-in line in the opponent half, the striker 0.85 m from it on the side
+    of the opponent goal: it comes at the ball from where it stands and plays it back along the line
+    (it once walked round the ball and orbited it for 13 s); in its own half it goes round the ball."""
+    from agents.behavior.aim import restart_aim
+    from agents.behavior.skills import behind_ball, behind_point
+
+    ball, robot, attack = (-2.0, -1.6), Pose2D(-2.6, -1.0, math.radians(-45.0)), -1.0
+    aim = restart_aim(ball, math.atan2(ball[1] - robot.y, ball[0] - robot.x), attack)
+    assert attack * (aim.x - ball[0]) < 0.0 and aim.y > ball[1]  # back along the line, into the field
+    assert behind_ball(robot, ball, aim.xy) == behind_point(ball, aim.xy)  # straight to the spot behind it
+    assert math.hypot(behind_point(ball, aim.xy).x - robot.x, behind_point(ball, aim.xy).y - robot.y) < 0.75
+    own_half, coming = (2.0, -1.6), (0.6, -0.6)  # the same way, in its own half: never back there
+    aim = restart_aim(own_half, math.atan2(coming[1], coming[0]), attack)
+    assert attack * (aim.x - own_half[0]) > -1e-9
 
 
 def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_aim() -> None:

@@ -18,11 +18,13 @@ post). Between the posts, far enough inside them for the ball to pass
 no line into it passes the post, it is pushed back out in front of the goal
 (:data:`CUTBACK_M`), from a spot behind the ball on the carpet beyond the end line.
 
-A throw-in's first touch (:func:`restart_aim`) is played the way the robot already comes at
-the ball, turned only as far as needed to keep it from going back toward the own goal or
-along or out over the near side line: the quick touch that puts the ball back in play,
-where walking round the ball to face the opponent goal takes a slow robot (0.15-0.2 m/s)
-ten seconds or more.
+A throw-in's first touch (:func:`restart_aim`) is played the way the robot already goes (the
+way it comes at the ball from afar, the way it faces near it), turned only as far as needed
+to keep it from going along or out over the near side line, and from going back toward the
+own goal in the own half: the quick touch that puts the ball back in play, where walking
+round the ball to face the opponent goal takes a slow robot (0.15-0.2 m/s) ten seconds or
+more. In the opponent half the touch may go back along the line (a push moves the ball half
+a metre): a robot that comes from the opponent's side no longer walks round the ball first.
 
 Computed in the frame where the own goal is at x = -3 (``attack`` = +1 when the robot
 defends the blue goal, -1 otherwise) and mirrored; field frame, m and rad.
@@ -50,7 +52,9 @@ POST_CLEARANCE_M = FIELD.goal_post_diameter / 2 + FIELD.ball_radius  # ... pushe
 GOAL_LINE_AIM_DEPTH_M = 0.25  # ... toward the goal's axis this deep inside the goal ...
 CUTBACK_M = 0.5  # ... or, beside the goal, pushed back to the goal's axis this far in front of its line
 RESTART_OFF_LINE_RAD = math.radians(10.0)  # ours: a throw-in's first touch turns at least this far off the line ...
-RESTART_INTO_FIELD_RAD = math.radians(90.0)  # ... and at most square into the field (never back toward the own goal)
+RESTART_INTO_FIELD_RAD = math.radians(90.0)  # ... and at most square into the field (never back toward the own goal) ...
+RESTART_BACK_RAD = math.radians(170.0)  # ... or, this far from the own goal line at least, back along the line
+RESTART_BACK_MIN_M = FIELD.half_length
 
 
 @dataclass(frozen=True)
@@ -110,12 +114,17 @@ def _clearing_point(bx: float, by: float, depth: float, attack: float, side: flo
     return bx + attack * AIM_DISTANCE_M * math.sin(turn), by + side * AIM_DISTANCE_M * math.cos(turn)
 
 
-def restart_aim(ball_xy: tuple[float, float], robot_xy: tuple[float, float], attack: float) -> Aim:
-    """The aim of a throw-in's first touch for a robot at ``robot_xy``: along the way it comes at the
-    ball, clipped to between :data:`RESTART_OFF_LINE_RAD` and :data:`RESTART_INTO_FIELD_RAD` into the
-    field, away from the side line nearer the ball (angles from the attack direction)."""
+def restart_aim(ball_xy: tuple[float, float], way_rad: float, attack: float) -> Aim:
+    """The aim of a throw-in's first touch for a robot that would play the ball along ``way_rad``
+    (field frame): that way, or the nearer edge of the cone from :data:`RESTART_OFF_LINE_RAD` off
+    the side line nearer the ball to :data:`RESTART_INTO_FIELD_RAD` into the field
+    (:data:`RESTART_BACK_RAD`, back along the line, with the ball :data:`RESTART_BACK_MIN_M` or
+    more from the own goal line); angles from the attack direction, negative into the field."""
     bx, by = ball_xy
     side = 1.0 if by >= 0.0 else -1.0
-    way = math.atan2(side * (by - robot_xy[1]), attack * (bx - robot_xy[0]))
-    way = min(max(way, -RESTART_INTO_FIELD_RAD), -RESTART_OFF_LINE_RAD)
+    way = math.atan2(side * math.sin(way_rad), attack * math.cos(way_rad))
+    most = RESTART_BACK_RAD if attack * bx + FIELD.half_length >= RESTART_BACK_MIN_M else RESTART_INTO_FIELD_RAD
+    if not -most <= way <= -RESTART_OFF_LINE_RAD:
+        edges = (-RESTART_OFF_LINE_RAD, -most)
+        way = min(edges, key=lambda edge: abs(math.remainder(way - edge, math.tau)))
     return Aim(bx + attack * AIM_DISTANCE_M * math.cos(way), by + side * AIM_DISTANCE_M * math.sin(way), False)

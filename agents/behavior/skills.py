@@ -76,6 +76,7 @@ ALIGN_GAIN_PER_S = 1.5  # vy = gain * lateral error
 FOOT_OFFSET_M = 0.05  # lateral offset of a foot from the torso centre
 FOOT_BAND_M = (0.025, 0.085)  # |lateral offset| of a ball in front of a foot (m)
 KICK_DISTANCE_M = 0.19  # kicks are strongest with the ball 0.12-0.17 m ahead, 0.03-0.08 m to the side
+KICK_SPOT_M = 0.14  # where step_to_ball puts the ball: this far ahead
 KICK_HEADING_TOLERANCE_RAD = math.radians(60.0)
 KICK_ROLL_M = 3.0  # a kick rolls the ball about this far ...
 SIDELINE_MARGIN_M = 0.25  # ... and it must not end nearer the side line than this (or beyond it), unless it is a shot
@@ -154,6 +155,22 @@ def push(ball: RelativeBall) -> tuple[float, float, float]:
     return walk_command(PUSH_MPS, ALIGN_GAIN_PER_S * ball.left_m, 0.0)
 
 
+def step_to_ball(ball: RelativeBall, heading_error_rad: float) -> tuple[float, float, float]:
+    """Walk and side-step, without turning to the ball, until it lies :data:`KICK_SPOT_M` ahead
+    before the nearer foot, turning by ``heading_error_rad`` (the aim minus the heading) on the
+    way: for a near ball with the aim about ahead, where turning to the ball first and orbiting
+    back to the aim costs seconds."""
+    forward = ball.distance_m * math.cos(ball.bearing_rad)
+    foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
+    return walk_command(APPROACH_GAIN_PER_S * (forward - KICK_SPOT_M), ALIGN_GAIN_PER_S * (ball.left_m - foot),
+                        TURN_GAIN_PER_S * heading_error_rad)
+
+
+def at_kick_spot(ball: RelativeBall) -> bool:
+    """Whether the ball lies where a kick takes it: within :data:`KICK_DISTANCE_M`, before a foot."""
+    return ball.distance_m < KICK_DISTANCE_M and FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]
+
+
 def kick_for(ball: RelativeBall) -> Motion:
     return Motion.KICK_LEFT if ball.left_m > 0.0 else Motion.KICK_RIGHT
 
@@ -173,7 +190,7 @@ def chase(
         return Motion.WALK, orbit(ball, heading_error_rad)
     if ball.distance_m >= KICK_DISTANCE_M:
         return Motion.WALK, approach(ball)
-    if foot_first and not FOOT_BAND_M[0] <= abs(ball.left_m) <= FOOT_BAND_M[1]:
+    if foot_first and not at_kick_spot(ball):
         foot = math.copysign(FOOT_OFFSET_M, ball.left_m)
         return Motion.WALK, walk_command(0.0, ALIGN_GAIN_PER_S * (ball.left_m - foot), 0.0)
     if abs(heading_error_rad) <= KICK_HEADING_TOLERANCE_RAD:

@@ -128,6 +128,8 @@ QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the
 QUICK_TOUCH_BAND_M = 0.3  # ... (this near it) the striker takes the quickest safe first touch (agents.behavior.aim)
 QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick,
 QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
+QUICK_STEP_WITHIN_M = 0.5  # ... nearer the ball than this, the touch goes the way the robot faces (clipped) ...
+QUICK_STEP_RAD = math.radians(45.0)  # ... and facing it within this, the robot steps to the ball without turning to it
 LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball ...
 LATE_TOUCH_WITHIN_M = 0.5  # ... and has it this near, ...
 LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, facing the touch's aim within QUICK_PUSH_RAD,
@@ -445,10 +447,16 @@ class TeamAgent:
                 self._lining_up_s = self.now_s
             aim = goal_aim = Aim(*shot.aim_xy, False)
         quick = self._quick_touch(ball_xy)
+        near = ball_rel is not None and ball_rel.distance_m < QUICK_STEP_WITHIN_M
         if quick:
-            aim = restart_aim(ball_xy, (pose.x, pose.y), attack)
+            way = pose.theta if near else math.atan2(ball_xy[1] - pose.y, ball_xy[0] - pose.x)
+            aim = restart_aim(ball_xy, way, attack)
         if ball_rel is None:  # the team's ball (a teammate's, or a throw-in's spot): come at it from behind
             motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, aim.xy))
+            return motion, walk, head
+        heading_error = _heading_error(pose, ball_xy, aim.xy)
+        if quick and near and abs(heading_error) <= QUICK_STEP_RAD:
+            motion, walk = self._quick_step(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
             return motion, walk, head
         waypoint = skills.behind_ball(pose, ball_xy, aim.xy)
         if waypoint is not None:
@@ -456,10 +464,6 @@ class TeamAgent:
             if motion is Motion.STAND:  # at the way round (near enough to it): on to the spot behind the ball
                 motion, walk = skills.walk_to(pose, skills.behind_point(ball_xy, aim.xy))
             return motion, walk, head
-        heading_error = _heading_error(pose, ball_xy, aim.xy)
-        if quick and self._late_touch(ball_rel, heading_error):
-            self.intention = Intention.KICK
-            return Motion.WALK, skills.push(ball_rel), head
         motion, walk = skills.chase(ball_rel, heading_error, foot_first=True)
         if motion.is_kick and quick:
             motion, walk = self._first_touch(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
@@ -480,6 +484,19 @@ class TeamAgent:
             return False  # its first touch is taken
         line_y = FIELD.half_width - THROW_IN_INSET_M
         return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
+
+    def _quick_step(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
+                    goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float,
+                    shot: ShotWindow | None) -> tuple[Motion, tuple[float, float, float]]:
+        """A throw-in's first touch near the ball, facing about the way the touch goes (``heading_error``):
+        late, walk on through it (:meth:`_late_touch`); at the kick spot, the touch (:meth:`_first_touch`);
+        else step there, turning to the aim on the way (:func:`agents.behavior.skills.step_to_ball`)."""
+        if self._late_touch(ball_rel, heading_error):
+            self.intention = Intention.KICK
+            return Motion.WALK, skills.push(ball_rel)
+        if skills.at_kick_spot(ball_rel):
+            return self._first_touch(pose, ball_rel, ball_xy, goal_aim_xy, goal_x, heading_error, shot)
+        return Motion.WALK, skills.step_to_ball(ball_rel, heading_error)
 
     def _late_touch(self, ball_rel: BallEstimate, heading_error: float) -> bool:
         """Whether a throw-in's first touch is late (:data:`LATE_TOUCH_AFTER_S`) and the striker comes at the
