@@ -160,7 +160,8 @@ def run_match(
     """Play one match to the end (or ``max_steps``, or until ``observer`` is done) and write its outputs.
 
     ``policies``: agent id -> policy, called in this process, or :class:`~match.controllers.Controllers`
-    (e.g. controller processes), which the run closes when it ends. ``policy_seeds``: the seed
+    (e.g. controller processes), which the run closes when it ends, as it closes the match it
+    builds when ``match`` is None. ``policy_seeds``: the seed
     each policy's ``reset`` gets (default: drawn from ``seed``). The outputs are written
     however the run ends; one stopped by an error or Ctrl-C has ``completed`` False in its
     summary, and the error is raised again.
@@ -169,11 +170,15 @@ def run_match(
         controllers: Controllers = policies
     else:
         controllers = InProcessControllers(policies)
+    own_match = None
     try:
-        return _run(config, controllers, seed, out_dir, progress, max_steps, match or Match(config), observer,
-                    policy_seeds)
+        if match is None:
+            match = own_match = Match(config)
+        return _run(config, controllers, seed, out_dir, progress, max_steps, match, observer, policy_seeds)
     finally:
         controllers.close()
+        if own_match is not None:
+            own_match.close()
 
 
 def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path | None, progress: bool,

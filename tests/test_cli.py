@@ -125,6 +125,9 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
         assert simulator > 20.0 and controllers > 20.0, (simulator, controllers)
         assert render_workers > 20.0 if (os.cpu_count() or 1) >= 2 else render_workers == 0.0, render_workers
         assert results["peak_rss_mb"] == pytest.approx(simulator + controllers + render_workers)
+        assert results["memory_matches"] == 3.0  # a match per 10 repeats, 3 at least
+        first, last = results["rss_first_match_mb"], results["rss_last_match_mb"]
+        assert first > 20.0 and last > 20.0 and results["rss_growth_share"] == pytest.approx((last - first) / first)
     assert results["repeats"] == QUICK_REPEATS
     machine = results["machine"]
     assert machine["cpu_count"] >= 1 and machine["pybullet_api_version"] > 0 and machine["python"]
@@ -175,6 +178,7 @@ def test_run_bench_refuses_non_positive_repeats(tmp_path: Path) -> None:
     [("render_ms_median", "higher"), ("env_step_cameras_off_ms_p90", "higher"), ("env_steps_per_s", "lower"),
      ("vec_env_steps_per_s_cameras_off", "lower"), ("broadcast_render_fps", "lower"),
      ("match_real_time_factor", "lower"), ("peak_rss_mb", "higher"), ("peak_rss_controllers_mb", "higher"),
+     ("rss_last_match_mb", "higher"), ("rss_growth_share", "higher"),
      ("repeats", None), ("match_steps", None), ("env_over_render_physics_ratio", None)],
 )
 def test_which_way_a_bench_key_gets_worse(key: str, direction: str | None) -> None:

@@ -172,3 +172,21 @@ def test_match_command_refuses_bad_options(argv: list[str], tmp_path: Path) -> N
     except SystemExit as exit_info:
         code = exit_info.code
     assert code == 2
+
+
+def test_the_run_closes_the_match_it_builds_and_leaves_one_given_open(monkeypatch: pytest.MonkeyPatch) -> None:
+    from match.game import Match
+
+    closed: list[Match] = []
+    close = Match.close
+    monkeypatch.setattr(Match, "close", lambda self: (closed.append(self), close(self))[1])
+    config = MatchConfig(home_players=1, away_players=1, referee=SHORT)
+    policies = {"home_0": Walker(), "away_0": Walker()}
+    run_match(config, policies, seed=1, progress=False, max_steps=2)
+    assert len(closed) == 1  # its own match: its world and its server are gone
+    match = Match(config)
+    try:
+        run_match(config, policies, seed=1, progress=False, max_steps=2, match=match)
+        assert len(closed) == 1 and match.world is not None  # the caller's match: still open
+    finally:
+        match.close()

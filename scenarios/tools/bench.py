@@ -409,6 +409,63 @@ def own_peak_resident_mb() -> float | None:
     return peak / 2**20 if sys.platform == "darwin" else peak / 1024
 
 
+MEMORY_MAX_MATCHES = 20
+MEMORY_MIN_MATCHES = 3
+MEMORY_MATCH_STEPS = 50  # control steps of each match (2 s, mostly PLAYING with the quick start)
+
+
+def bench_memory(repeats: int) -> dict[str, float]:
+    """Whether memory stays flat over consecutive matches in one process: a match per 10 repeats
+    (:data:`MEMORY_MIN_MATCHES` to :data:`MEMORY_MAX_MATCHES`), each built anew, of
+    :data:`MEMORY_MATCH_STEPS` steps with the default policies in this process, played in a fresh
+    process (``spawn``); the resident memory (MiB) after the first and the last, and the growth
+    between them as a share of the first (``rss_growth_share``). Left out where the system does not
+    report resident memory (Linux does)."""
+    matches = min(MEMORY_MAX_MATCHES, max(MEMORY_MIN_MATCHES, repeats // 10))
+    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        resident = pool.submit(play_memory_matches, matches).result()
+    if resident is None:
+        log.warning("memory benchmark: this system does not report resident memory; no rss keys")
+        return {}
+    first, last = resident[0], resident[-1]
+    log.info("memory: %.0f MiB after the first of %d matches, %.0f MiB after the last", first, matches, last)
+    return {"memory_matches": float(matches), "rss_first_match_mb": first, "rss_last_match_mb": last,
+            "rss_growth_share": (last - first) / first}
+
+
+def play_memory_matches(matches: int) -> list[float] | None:
+    """The matches of :func:`bench_memory`, in this process: the resident memory (MiB) after each."""
+    import gc
+
+    from match.protocol.ids import roster
+    from match.runner import run_match
+    from scenarios.matches.play import Lineup, match_config
+
+    config = match_config()
+    config = replace(config, referee=replace(config.referee, **QUICK_START))
+    resident: list[float] = []
+    for seed in range(matches):
+        policies = Lineup().policies(roster(config.home_players, config.away_players))
+        run_match(config, policies, seed=seed, progress=False, max_steps=MEMORY_MATCH_STEPS)
+        del policies
+        gc.collect()
+        mb = own_resident_mb()
+        if mb is None:
+            return None
+        resident.append(mb)
+    return resident
+
+
+def own_resident_mb() -> float | None:
+    """This process's resident memory now, in MiB (Linux), None where the system does not say."""
+    try:
+        with open("/proc/self/statm", encoding="ascii") as statm:
+            pages = int(statm.read().split()[1])
+    except (OSError, ValueError, IndexError):
+        return None
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
 AGENT_WARMUP_STEPS = 10
 AGENT_ROBOT = "home_1"
 
@@ -465,6 +522,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("match", "an 8-robot match with the default policies in a fresh process, real-time factor and peak "
               "memory", bench_match),
     Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
+    Benchmark("memory", "consecutive short matches in one process: resident memory after the first and the last",
+              bench_memory),
 )
 
 
@@ -589,9 +648,9 @@ class Comparison:
 
 
 def worse_when(key: str) -> str | None:
-    """Which way ``key`` gets worse: peak memory (``peak_rss*``) and times (``_ms_``) :data:`HIGHER`, rates
-    (``_per_s``, ``_fps``, ``real_time_factor``) :data:`LOWER`; None for other numbers (counts, ratios)."""
-    if key.startswith("peak_rss") or "_ms_" in key:
+    """Which way ``key`` gets worse: memory (``peak_rss*``, ``rss_*``) and times (``_ms_``) :data:`HIGHER`,
+    rates (``_per_s``, ``_fps``, ``real_time_factor``) :data:`LOWER`; None for other numbers (counts, ratios)."""
+    if key.startswith(("peak_rss", "rss_")) or "_ms_" in key:
         return HIGHER
     if "_per_s" in key or "_fps" in key or "real_time_factor" in key:
         return LOWER
