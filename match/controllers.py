@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import logging
 import multiprocessing
-import os
 import signal
 import time
 import traceback
@@ -57,7 +56,7 @@ from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, Thinker, check_pose
 from match.reports import ReportReader
 from match.shared_images import SharedImages, frames_of, unpack
-from world.process_memory import peak_resident_mb
+from world.process_memory import peak_resident_mb, resident_mb
 
 log = logging.getLogger(__name__)
 
@@ -70,7 +69,6 @@ MAX_RESTARTS = 100  # restarts of one controller in a match; then it stays stopp
 # the allowed range of each number of ControllerLimits (seconds, MiB)
 LIMIT_BOUNDS = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0), "hang_s": (0.0, 3600.0),
                 "memory_mb": (64.0, 1_048_576.0)}
-PAGE_BYTES = os.sysconf("SC_PAGE_SIZE") if hasattr(os, "sysconf") else 4096
 
 
 @dataclass(frozen=True)
@@ -427,7 +425,7 @@ class _Controller:
         if self.busy and now - self.asked_at > limits.step_budget_s + limits.hang_s:
             return self.restart(f"ControllerHung: still busy {now - self.asked_at:.1f} s after it was asked")
         if check_memory:
-            rss_mb = _resident_mb(self.process.pid)
+            rss_mb = resident_mb(self.process.pid)
             if rss_mb is not None and rss_mb > limits.memory_mb:
                 return self.restart(f"ControllerMemory: {rss_mb:.0f} MiB resident, over the limit of "
                                     f"{limits.memory_mb:g} MiB")
@@ -582,13 +580,3 @@ def _describe(error: BaseException) -> str:
     if len(text) > 300:
         text = text[:297] + "..."
     return f"{type(error).__name__}: {text}"
-
-
-def _resident_mb(pid: int) -> float | None:
-    """Resident memory of process ``pid`` in MiB (Linux), None where the system does not say."""
-    try:
-        with open(f"/proc/{pid}/statm", encoding="ascii") as statm:
-            pages = int(statm.read().split()[1])
-    except (OSError, ValueError, IndexError):
-        return None
-    return pages * PAGE_BYTES / 2**20

@@ -1,6 +1,20 @@
-"""A process's peak resident memory, as the system reports it (Linux's ``/proc``)."""
+"""A process's resident memory and its peak, as the system reports them (Linux's ``/proc``)."""
 
 from __future__ import annotations
+
+import os
+
+PAGE_BYTES = os.sysconf("SC_PAGE_SIZE") if hasattr(os, "sysconf") else 4096
+
+
+def resident_mb(pid: int) -> float | None:
+    """Resident memory of process ``pid`` now, in MiB (Linux), None where the system does not say."""
+    try:
+        with open(f"/proc/{pid}/statm", encoding="ascii") as statm:
+            pages = int(statm.read().split()[1])
+    except (OSError, ValueError, IndexError):
+        return None
+    return pages * PAGE_BYTES / 2**20
 
 
 def peak_resident_mb(pid: int) -> float | None:

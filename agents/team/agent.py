@@ -557,7 +557,7 @@ class TeamAgent:
         goal mouth (:mod:`agents.behavior.aim`) only faces its aim (``heading_error``) and may go
         out: a throw-in there is no goal. On their goal line (``goal_line``) the push in need only
         pass the posts by :data:`agents.behavior.aim.POST_CLEARANCE_M`, and the push back out in
-        front of their goal (a clearing there) is no danger to the own goal, 5.5 m away, whatever
+        front of their goal (a clearing there) is no danger to the own goal, 6 m away, whatever
         the eyes see."""
         if clearing:
             aligned = abs(heading_error) <= KICK_ALIGN_RAD

@@ -442,6 +442,7 @@ def play_memory_matches(matches: int) -> list[float] | None:
     from match.protocol.ids import roster
     from match.runner import run_match
     from scenarios.matches.play import Lineup, match_config
+    from world.process_memory import resident_mb
 
     config = match_config()
     config = replace(config, referee=replace(config.referee, **QUICK_START))
@@ -451,21 +452,11 @@ def play_memory_matches(matches: int) -> list[float] | None:
         run_match(config, policies, seed=seed, progress=False, max_steps=MEMORY_MATCH_STEPS)
         del policies
         gc.collect()
-        mb = own_resident_mb()
+        mb = resident_mb(os.getpid())
         if mb is None:
             return None
         resident.append(mb)
     return resident
-
-
-def own_resident_mb() -> float | None:
-    """This process's resident memory now, in MiB (Linux), None where the system does not say."""
-    try:
-        with open("/proc/self/statm", encoding="ascii") as statm:
-            pages = int(statm.read().split()[1])
-    except (OSError, ValueError, IndexError):
-        return None
-    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
 AGENT_WARMUP_STEPS = 10
