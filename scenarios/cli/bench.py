@@ -24,7 +24,8 @@ HELP = "measure rendering and physics costs, write bench.json"
 DESCRIPTION = (
     "Time one 160x120 robot camera frame, one 40 ms control step of 8 walking robots, env.step (cameras on "
     "and off), env steps under SuperSuit's vector env in 2 processes (cameras on and off), the 640x480 "
-    "broadcast render, a short match (its real-time factor and peak memory) and the team agent's act; print "
+    "broadcast render, a short match (its real-time factor and peak memory), the team agent's act and the "
+    "resident memory over consecutive short matches in one process; print "
     "a table and write DIR/bench.json (medians and 90th percentiles in ms, rates, peak memory in MiB, machine "
     "details). With --compare OLD_JSON, also print and write (DIR/compare.json) each figure's ratio to OLD_JSON's."
 )

@@ -515,7 +515,7 @@ BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("match", "an 8-robot match with the default policies in a fresh process, real-time factor and peak "
               "memory", bench_match),
     Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
-    Benchmark("memory", "consecutive short matches in one process: resident memory after the first and the last",
+    Benchmark("memory", "consecutive short matches in one process: resident memory after the first, second and last",
               bench_memory),
 )
 
