@@ -386,7 +386,7 @@ def test_a_ball_on_their_goal_line_is_pushed_in_past_the_post_or_back_out_in_fro
     assert abs(spot.y) > FIELD.goal_post_y + FIELD.goal_post_diameter  # ... clear of the goal
     pose = Pose2D(beside[0] - math.cos(spot.theta) * 0.14 + math.sin(spot.theta) * 0.05,
                   beside[1] - math.sin(spot.theta) * 0.14 - math.cos(spot.theta) * 0.05, spot.theta)
-    agent._own_goal_ahead_s = agent.now_s  # its own goal, 5.5 m away, straight ahead: no danger to a push
+    agent._own_goal_ahead_s = agent.now_s  # its own goal, 6 m away, straight ahead: no danger to a push
     motion, walk, _ = agent._strike(pose, BallEstimate(*_to_robot(pose, beside), 0.0, 0.0, 0.02, 0.0), None, attack,
                                     (0.0, 0.0))
     assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)

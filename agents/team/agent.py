@@ -130,8 +130,7 @@ QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the to
 QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
 QUICK_STEP_WITHIN_M = 0.5  # ... nearer the ball than this, the touch goes the way the robot faces (clipped) ...
 QUICK_STEP_RAD = math.radians(45.0)  # ... and facing it within this, the robot steps to the ball without turning to it
-LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball ...
-LATE_TOUCH_WITHIN_M = 0.5  # ... and has it this near, ...
+LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball (within QUICK_STEP_WITHIN_M) ...
 LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, facing the touch's aim within QUICK_PUSH_RAD,
 # walks on through it (a push): no slowing down, no side-step to a foot, no kick (together about 1.5 s)
 LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
@@ -499,11 +498,11 @@ class TeamAgent:
         return Motion.WALK, skills.step_to_ball(ball_rel, heading_error)
 
     def _late_touch(self, ball_rel: BallEstimate, heading_error: float) -> bool:
-        """Whether a throw-in's first touch is late (:data:`LATE_TOUCH_AFTER_S`) and the striker comes at the
-        ball along the touch's aim: then it walks on through the ball (from kicking distance on, that push is
-        its first touch)."""
-        if (self.now_s - self._drop_in_at_s < LATE_TOUCH_AFTER_S or ball_rel.distance_m >= LATE_TOUCH_WITHIN_M
-                or abs(ball_rel.bearing_rad) >= LATE_TOUCH_BEARING_RAD or abs(heading_error) > QUICK_PUSH_RAD):
+        """Whether a throw-in's first touch is late (:data:`LATE_TOUCH_AFTER_S`) and the striker, near the
+        ball (:meth:`_quick_step`), comes at it along the touch's aim: then it walks on through the ball
+        (from kicking distance on, that push is its first touch)."""
+        if (self.now_s - self._drop_in_at_s < LATE_TOUCH_AFTER_S or abs(ball_rel.bearing_rad) >= LATE_TOUCH_BEARING_RAD
+                or abs(heading_error) > QUICK_PUSH_RAD):
             return False
         if ball_rel.distance_m < skills.KICK_DISTANCE_M and self._first_touch_s < self._drop_in_at_s:
             self._first_touch_s = self.now_s
