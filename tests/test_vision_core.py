@@ -14,6 +14,7 @@ from agents.vision.camera_models import ExactCameraModel, ThesisCameraModel, cam
 from agents.vision.colors import ColorClass
 from agents.vision.errors import VisionConfigError, VisionInputError
 from agents.vision.frame import CameraFrame
+from agents.vision.goals import detect_goals
 from agents.vision.head_scan import SCAN_PITCH_RAD as PITCH_17
 from agents.vision.head_scan import HeadScan, fuse_percepts, scan_coverage_rad
 from agents.vision.percepts import LandmarkPercept, PostSide
@@ -269,6 +270,47 @@ def test_the_goals_back_frame_is_not_taken_for_a_post(world, pipeline):
         errors = [abs(post.distance_m - truth_of(world, c)[1]) / truth_of(world, c)[1] for c in candidates]
         assert min(errors) <= 0.1
     assert any(b.rejected for b in result.goals.posts)
+
+
+def _post_scene(model, base_row: int = 60, column: int = 80) -> tuple[np.ndarray, CameraFrame, int, int]:
+    """Labels of a yellow post standing on the carpet, sized for the distance its base pixel gives:
+    (labels, frame, width px, height px)."""
+    frame = CameraFrame(blank(), 0.0, PITCH_17)
+    distance = float(model.locate(frame, np.array([column]), np.array([base_row + 0.5])).distance_m[0])
+    width = max(3, round(FIELD.goal_post_diameter / distance * NAO_CAMERA.focal_px))
+    height = round(FIELD.goal_height / distance * NAO_CAMERA.focal_px * 0.8)
+    labels = np.full((120, 160), int(ColorClass.GREEN), np.uint8)
+    labels[:20] = int(ColorClass.WHITE)  # the hall above the field
+    labels[max(0, base_row - height + 1) : base_row + 1, column - width // 2 : column - width // 2 + width] = int(ColorClass.YELLOW)
+    return labels, frame, width, height
+
+
+@pytest.mark.parametrize("model", ["exact", "thesis"])
+def test_a_post_seen_whole_is_kept_and_one_whose_base_a_robot_hides_is_not(model):
+    """A robot in front hides the post's base: its lowest visible pixel lies on the robot, not on the
+    carpet, and the distance from it would be metres too long."""
+    camera = camera_model(model)
+    labels, frame, width, _ = _post_scene(camera)
+    percepts, trace = detect_goals(labels, frame, camera)
+    assert [p.kind for p in percepts] == [LandmarkKind.GOAL_POST] and not trace.posts[0].rejected
+    labels[61:100, 60:100] = int(ColorClass.WHITE)  # a robot's body right under the base
+    labels[50:61, 60:100] = int(ColorClass.WHITE)  # ... and over the post's lower part
+    percepts, trace = detect_goals(labels, frame, camera)
+    assert percepts == () and [p.rejected for p in trace.posts] == ["base hidden: no carpet below it"]
+
+
+@pytest.mark.parametrize("model", ["exact", "thesis"])
+def test_the_goals_ground_frame_seen_along_and_a_short_piece_of_it_are_not_posts(model):
+    camera = camera_model(model)
+    labels, frame, width, height = _post_scene(camera)
+    labels[labels == int(ColorClass.YELLOW)] = int(ColorClass.GREEN)
+    labels[50:61, 30:150] = int(ColorClass.YELLOW)  # a wide band: the frame's side bar from close by
+    percepts, trace = detect_goals(labels, frame, camera)
+    assert percepts == () and [p.rejected for p in trace.posts] == ["too wide for a post at its distance"]
+    labels[50:61, :] = int(ColorClass.GREEN)
+    labels[55:61, 80 : 80 + width] = int(ColorClass.YELLOW)  # a post's width, a tenth of its height
+    percepts, trace = detect_goals(labels, frame, camera)
+    assert percepts == () and [p.rejected for p in trace.posts] == ["too short for a post at its distance"]
 
 
 @pytest.mark.render

@@ -9,9 +9,11 @@ centre (step 3); a lone
 post is told left or right by the crossbar leaving its top to one side, read in the same
 frame when the top is in view (step 4; otherwise its side stays unknown and the head scan
 tilts the head up to look, see :mod:`agents.vision.head_scan`). Then the thesis' two
-sanity checks, and ours (marked so): a post's base must be in the image, its width must
-fit its distance, and two posts must stand 1.5 m apart; the last two reject the goal's
-thin back uprights, which stand 0.5 m behind the posts.
+sanity checks, and ours (marked so): a post's base must be in the image and on the carpet
+(a robot in front hides the real base, and the distance from the lowest visible pixel comes
+out metres too long), its width and height must fit its distance, and two posts must stand 1.5 m apart;
+the width and the pair's gap reject the goal's thin back uprights, which stand 0.5 m behind
+the posts, and its ground frame seen along its side from close by.
 """
 
 from __future__ import annotations
@@ -38,6 +40,11 @@ MIN_POST_RUN_PX = 5  # ours: a post column has a vertical run of at least this m
 POST_RUN_FRACTION = 0.3  # ... and at least this fraction of the longest run of that goal colour
 MIN_POST_WIDTH_FRACTION = 0.65  # ours: a post's core is at least this fraction of a 0.1 m post's
 # width at its distance; the goal's back frame (0.04 m bars, 0.5 m behind) is about 0.4 of it
+MAX_POST_WIDTH_FRACTION = 2.5  # ours: ... and at most this multiple of it (plus MAX_POST_WIDTH_SLACK_PX);
+MAX_POST_WIDTH_SLACK_PX = 2  # the goal's ground frame seen along its side from close by is a wide band
+MIN_POST_HEIGHT_FRACTION = 0.5  # ours: a post whose top is in view is at least this fraction of a
+# 0.8 m post's height at its distance (a piece of the ground frame seen between robots' legs is not)
+BASE_GROUND_ROWS = 2  # ours: a post's base stands on the carpet: green within this many rows below it
 CORE_RUN_FRACTION = 0.5  # ours: a post's core columns have at least half its longest run
 CROSSBAR_MIN_PIXELS = 2  # ours: goal pixels beside the post top that show the crossbar's side
 BASE_ROWS = 3  # ours: the base column is the mean of the post's lowest rows (posts lean in the image)
@@ -140,6 +147,16 @@ def find_posts(labels: np.ndarray, goal: GoalColor) -> list[PostBlob]:
     return posts
 
 
+def stands_on_field(labels: np.ndarray, post: PostBlob) -> bool:
+    """Whether carpet shows right below the post's base (within :data:`BASE_GROUND_ROWS` rows, in its
+    base columns). A post stands on the goal line, which it hides, so from the field the carpet
+    meets its base; when a robot stands in front, the post's lowest visible pixel is where the
+    robot's body begins, higher in the image, and its distance would come out far too long."""
+    below = labels[post.bottom_row + 1 : post.bottom_row + 1 + BASE_GROUND_ROWS,
+                   post.base_first_column : post.base_last_column + 1]
+    return bool(np.any(below == int(ColorClass.GREEN)))
+
+
 def crossbar_says_left(labels: np.ndarray, post: PostBlob) -> bool | None:
     """Whether a lone post is its goal's left post, from the crossbar leaving its top.
 
@@ -217,6 +234,13 @@ def detect_goals(
                 reason = "farther than the field"  # thesis check 2
             elif post.core_width_px < MIN_POST_WIDTH_FRACTION * FIELD.goal_post_diameter / distance * focal:
                 reason = "too thin for a post at its distance"  # ours: the goal's back frame
+            elif post.core_width_px > (MAX_POST_WIDTH_FRACTION * FIELD.goal_post_diameter / distance * focal
+                                       + MAX_POST_WIDTH_SLACK_PX):
+                reason = "too wide for a post at its distance"  # ours: the goal's ground frame
+            elif post.top_row > 0 and post.height_px < MIN_POST_HEIGHT_FRACTION * FIELD.goal_height / distance * focal:
+                reason = "too short for a post at its distance"  # ours: a piece of the ground frame
+            elif not stands_on_field(labels, post):
+                reason = "base hidden: no carpet below it"  # ours: a robot in front of the post
             if reason:
                 trace.append(_reject(post, reason))
             else:
