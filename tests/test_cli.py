@@ -18,14 +18,17 @@ import pytest
 from scenarios import cli
 from scenarios.tools.bench import (
     QUICK_REPEATS,
+    RENDER_WARMUP,
     BenchFileError,
     Comparison,
+    bench_render,
     compare_results,
     format_comparison,
     read_bench_file,
     run_bench,
     worse_when,
 )
+from world.backdrop import HallBackdrop
 from world.errors import InvalidPoseError
 
 CAMERA_FRAMES = (
@@ -101,6 +104,17 @@ def test_index_lists_every_image(demo_dir: Path) -> None:
     for name in CAMERA_FRAMES + OVERVIEWS:
         assert f"({name}.png)" in index
     assert sorted(p.stem for p in demo_dir.glob("*.png")) == sorted(CAMERA_FRAMES + OVERVIEWS)
+
+
+@pytest.mark.render
+def test_the_camera_frame_benchmark_draws_every_frame_from_a_new_pose(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A robot camera always moves in a match; the world keeps the hall of its last few camera poses, and
+    a benchmark camera that never moved would be timed without the hall drawn."""
+    drawn = []
+    draw = HallBackdrop._draw
+    monkeypatch.setattr(HallBackdrop, "_draw", lambda self, *args: drawn.append(1) or draw(self, *args))
+    bench_render(5)
+    assert len(drawn) == 5 + RENDER_WARMUP
 
 
 @pytest.mark.render

@@ -10,6 +10,7 @@ runs' figures side by side (``robotstadium bench --compare``).
 
 from __future__ import annotations
 
+import itertools
 import json
 import logging
 import math
@@ -79,6 +80,11 @@ RENDER_OTHERS: dict[str, tuple[float, float]] = {
 RENDER_BALL = (0.9, 0.0)
 """The ball, (distance m, bearing deg) from the viewer, in front of everybody."""
 
+RENDER_HEAD_YAWS_RAD = tuple(math.radians(0.2 * k) for k in range(-3, 4))
+"""The viewer's head turns through these, one per frame (one control step apart), so that every frame
+is seen from a new camera pose, as in a match: the world keeps the analytic hall of its last few
+camera poses, and a camera that never moved would be timed without drawing it."""
+
 
 def setup_render_scene(world: World) -> None:
     """Viewer near its own goal area, head pitched 17 deg down, the 7 others in its view.
@@ -119,10 +125,17 @@ def check_all_in_view(world: World, viewer: str, others: Sequence[str]) -> None:
 
 
 def bench_render(repeats: int) -> dict[str, float]:
-    """One 160x120 robot camera frame with all 8 robots in the scene and 7 of them in view."""
+    """One 160x120 robot camera frame with all 8 robots in the scene and 7 of them in view, each from a
+    new camera pose (:data:`RENDER_HEAD_YAWS_RAD`; the head's turn and the control step are not timed)."""
     with World(team_roster()) as world:
         setup_render_scene(world)
-        samples = time_ms(lambda: world.render_camera(RENDER_VIEWER), repeats, RENDER_WARMUP)
+        yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
+
+        def turn_head() -> None:
+            world.set_head(RENDER_VIEWER, next(yaws), SCAN_PITCH_RAD)
+            world.step(1)
+
+        samples = time_ms(lambda: world.render_camera(RENDER_VIEWER), repeats, RENDER_WARMUP, before=turn_head)
     return summarize("render", samples)
 
 
