@@ -281,7 +281,8 @@ def _post_scene(model, base_row: int = 60, column: int = 80) -> tuple[np.ndarray
     height = round(FIELD.goal_height / distance * NAO_CAMERA.focal_px * 0.8)
     labels = np.full((120, 160), int(ColorClass.GREEN), np.uint8)
     labels[:20] = int(ColorClass.WHITE)  # the hall above the field
-    labels[max(0, base_row - height + 1) : base_row + 1, column - width // 2 : column - width // 2 + width] = int(ColorClass.YELLOW)
+    left = column - width // 2
+    labels[max(0, base_row - height + 1) : base_row + 1, left : left + width] = int(ColorClass.YELLOW)
     return labels, frame, width, height
 
 
@@ -302,13 +303,13 @@ def test_a_post_seen_whole_is_kept_and_one_whose_base_a_robot_hides_is_not(model
 @pytest.mark.parametrize("model", ["exact", "thesis"])
 def test_the_goals_ground_frame_seen_along_and_a_short_piece_of_it_are_not_posts(model):
     camera = camera_model(model)
-    labels, frame, width, height = _post_scene(camera)
+    labels, frame, width, _ = _post_scene(camera)
     labels[labels == int(ColorClass.YELLOW)] = int(ColorClass.GREEN)
     labels[50:61, 30:150] = int(ColorClass.YELLOW)  # a wide band: the frame's side bar from close by
     percepts, trace = detect_goals(labels, frame, camera)
     assert percepts == () and [p.rejected for p in trace.posts] == ["too wide for a post at its distance"]
     labels[50:61, :] = int(ColorClass.GREEN)
-    labels[55:61, 80 : 80 + width] = int(ColorClass.YELLOW)  # a post's width, a tenth of its height
+    labels[55:61, 80 : 80 + width] = int(ColorClass.YELLOW)  # a post's width, six rows: far too short
     percepts, trace = detect_goals(labels, frame, camera)
     assert percepts == () and [p.rejected for p in trace.posts] == ["too short for a post at its distance"]
 

@@ -11,9 +11,10 @@ frame when the top is in view (step 4; otherwise its side stays unknown and the 
 tilts the head up to look, see :mod:`agents.vision.head_scan`). Then the thesis' two
 sanity checks, and ours (marked so): a post's base must be in the image and on the carpet
 (a robot in front hides the real base, and the distance from the lowest visible pixel comes
-out metres too long), its width and height must fit its distance, and two posts must stand 1.5 m apart;
-the width and the pair's gap reject the goal's thin back uprights, which stand 0.5 m behind
-the posts, and its ground frame seen along its side from close by.
+out metres too long), its width and height must fit its distance, and two posts must stand
+1.5 m apart; the width and the pair's gap reject the goal's thin back uprights, which stand
+0.5 m behind the posts, the width also its ground frame seen along its side from close by,
+and the height a piece of that frame seen between robots' legs.
 """
 
 from __future__ import annotations
