@@ -227,18 +227,18 @@ def detect_goals(
                 continue
             reason = ""
             distance = base_distance + radius  # the base pixel is the post's front
+            pixels_per_m = focal / distance  # a post's width and height in pixels per metre at its distance
             if post.base_first_column == 0 or post.base_last_column == width - 1:
                 reason = "base cut by the image side"  # ours: its mean column would be off
             elif post.bottom_row >= labels.shape[0] - 1:
                 reason = "base below the image"  # ours: the base is not in view
             elif not math.isfinite(distance) or distance > MAX_POST_DISTANCE_M:
                 reason = "farther than the field"  # thesis check 2
-            elif post.core_width_px < MIN_POST_WIDTH_FRACTION * FIELD.goal_post_diameter / distance * focal:
+            elif post.core_width_px < MIN_POST_WIDTH_FRACTION * FIELD.goal_post_diameter * pixels_per_m:
                 reason = "too thin for a post at its distance"  # ours: the goal's back frame
-            elif post.core_width_px > (MAX_POST_WIDTH_FRACTION * FIELD.goal_post_diameter / distance * focal
-                                       + MAX_POST_WIDTH_SLACK_PX):
+            elif post.core_width_px > MAX_POST_WIDTH_FRACTION * FIELD.goal_post_diameter * pixels_per_m + MAX_POST_WIDTH_SLACK_PX:
                 reason = "too wide for a post at its distance"  # ours: the goal's ground frame
-            elif post.top_row > 0 and post.height_px < MIN_POST_HEIGHT_FRACTION * FIELD.goal_height / distance * focal:
+            elif post.top_row > 0 and post.height_px < MIN_POST_HEIGHT_FRACTION * FIELD.goal_height * pixels_per_m:
                 reason = "too short for a post at its distance"  # ours: a piece of the ground frame
             elif not stands_on_field(labels, post):
                 reason = "base hidden: no carpet below it"  # ours: a robot in front of the post
