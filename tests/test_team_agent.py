@@ -419,6 +419,29 @@ def test_a_throw_in_first_touch_goes_neither_out_nor_back_in_its_own_half(attack
             assert way == pytest.approx(nearer), math.degrees(heading)
 
 
+@pytest.mark.parametrize("attack", [1.0, -1.0])
+def test_a_throw_in_first_touch_keeps_the_edge_it_turned_to(attack: float) -> None:
+    """A robot facing away from the middle of the allowed cone is about as near to both of its edges:
+    turning toward one must not make the other the aim (a robot 0.5 m from a throw-in's ball once
+    turned back and forth for 7 s). With the last aim held, the edge stays whichever way it faces
+    outside the cone; without it, the tie flips the aim."""
+    from agents.behavior.aim import restart_aim
+
+    ball = (-attack * 2.0, 1.6)  # in the own half, by the own goal: the cone runs from 10 to 90 degrees into the field
+    tie = math.atan2(math.sin(math.radians(130.0)), attack * math.cos(math.radians(130.0)))  # the cone's far middle
+
+    def direction(aim) -> float:
+        return math.atan2(aim.y - ball[1], aim.x - ball[0])
+
+    left, right = restart_aim(ball, tie + 0.05, attack), restart_aim(ball, tie - 0.05, attack)
+    assert abs(math.remainder(direction(left) - direction(right), math.tau)) > math.radians(60.0)
+    for first in (left, right):
+        held = direction(first)
+        for offset in np.radians(np.arange(-60.0, 61.0, 5.0)):
+            aim = restart_aim(ball, tie + offset, attack, held)
+            assert aim.xy == pytest.approx(first.xy), math.degrees(offset)
+
+
 def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal_in_its_own_half() -> None:
     """Just after a throw-in, a striker at the ball facing along the side line toward the opponent half
     (the goal far off to the side) plays it at once, and a second later plays on as in open play

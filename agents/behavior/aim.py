@@ -114,17 +114,32 @@ def _clearing_point(bx: float, by: float, depth: float, attack: float, side: flo
     return bx + attack * AIM_DISTANCE_M * math.sin(turn), by + side * AIM_DISTANCE_M * math.cos(turn)
 
 
-def restart_aim(ball_xy: tuple[float, float], way_rad: float, attack: float) -> Aim:
+def restart_aim(ball_xy: tuple[float, float], way_rad: float, attack: float, held_rad: float | None = None) -> Aim:
     """The aim of a throw-in's first touch for a robot that would play the ball along ``way_rad``
     (field frame): that way, or the nearer edge of the cone from :data:`RESTART_OFF_LINE_RAD` off
     the side line nearer the ball to :data:`RESTART_INTO_FIELD_RAD` into the field
     (:data:`RESTART_BACK_RAD`, back along the line, with the ball :data:`RESTART_BACK_MIN_M` or
-    more from the own goal line); angles from the attack direction, negative into the field."""
+    more from the own goal line); angles from the attack direction, negative into the field.
+
+    ``held_rad`` is the direction of the last step's aim (field frame), if any: outside the cone
+    the edge nearer it stays the aim. The way a robot faces near the ball changes as it turns to
+    walk round the ball, and one facing away from the cone's middle is about as near to both
+    edges: re-chosen every step, turning toward one edge made the other the nearer and back."""
     bx, by = ball_xy
     side = 1.0 if by >= 0.0 else -1.0
-    way = math.atan2(side * math.sin(way_rad), attack * math.cos(way_rad))
+
+    def in_attack_frame(angle_rad: float) -> float:
+        return math.atan2(side * math.sin(angle_rad), attack * math.cos(angle_rad))
+
+    way = in_attack_frame(way_rad)
     most = RESTART_BACK_RAD if attack * bx + FIELD.half_length >= RESTART_BACK_MIN_M else RESTART_INTO_FIELD_RAD
     if not -most <= way <= -RESTART_OFF_LINE_RAD:
         edges = (-RESTART_OFF_LINE_RAD, -most)
-        way = min(edges, key=lambda edge: abs(math.remainder(way - edge, math.tau)))
+        toward = way if held_rad is None else in_attack_frame(held_rad)
+        way = min(edges, key=lambda edge: _gap(toward, edge))
     return Aim(bx + attack * AIM_DISTANCE_M * math.cos(way), by + side * AIM_DISTANCE_M * math.sin(way), False)
+
+
+def _gap(a_rad: float, b_rad: float) -> float:
+    """The angle between two directions (rad, 0..pi)."""
+    return abs(math.remainder(a_rad - b_rad, math.tau))

@@ -188,6 +188,7 @@ class TeamAgent:
         self._drop_in_at_s = -math.inf  # when the last throw-in put the ball back (own clock)
         self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
         self._first_touch_s = -math.inf  # when it began its first touch after the last throw-in (own clock)
+        self._restart_aim_rad: float | None = None  # the direction of that first touch's last aim (field frame)
         self._shot_direction_rad: float | None = None  # the direction its last shot window aimed at (field frame)
         self._lining_up_s = -math.inf  # when it last lined up a shot with the ball at its feet (own clock)
         self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
@@ -331,6 +332,7 @@ class TeamAgent:
         if self.ball.age_s > since_s:
             self.ball.reset()
         self._drop_in_spot = None
+        self._restart_aim_rad = None
         if self._last_ball_xy is not None:
             bx, by = self._last_ball_xy
             defended = obs.game.defended_goal
@@ -449,7 +451,8 @@ class TeamAgent:
         near = ball_rel is not None and ball_rel.distance_m < QUICK_STEP_WITHIN_M
         if quick:
             way = pose.theta if near else math.atan2(ball_xy[1] - pose.y, ball_xy[0] - pose.x)
-            aim = restart_aim(ball_xy, way, attack)
+            aim = restart_aim(ball_xy, way, attack, self._restart_aim_rad)
+            self._restart_aim_rad = math.atan2(aim.y - ball_xy[1], aim.x - ball_xy[0])
         if ball_rel is None:  # the team's ball (a teammate's, or a throw-in's spot): come at it from behind
             motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, aim.xy))
             return motion, walk, head
