@@ -53,6 +53,7 @@ from agents.behavior import paths, skills
 from agents.behavior.aim import POST_CLEARANCE_M, Aim, kick_aim, on_their_goal_line, restart_aim
 from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
 from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
@@ -155,6 +156,7 @@ class TeamAgent:
         self.ball = BallModel()
         self.obstacles = ObstacleModel()
         self.unjam = Unjammer(DT_S)
+        self.stall = StallWatch()
         self.team = TeamModel(self.player)
         self.role = Role.NONE
         self.intention = Intention.NONE
@@ -456,6 +458,10 @@ class TeamAgent:
         if ball_rel is None:  # the team's ball (a teammate's, or a throw-in's spot): come at it from behind
             motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, aim.xy))
             return motion, walk, head
+        stalled = self.stall.pushing(self.now_s, ball_xy, ball_rel.distance_m < STALL_NEAR_M)
+        if stalled and push_allowed(pose.theta, attack) and self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S:
+            self.intention = Intention.KICK  # a stalled ball (agents.behavior.stall): walk on through it
+            return Motion.WALK, skills.push(ball_rel), head
         heading_error = _heading_error(pose, ball_xy, aim.xy)
         if quick and near and abs(heading_error) <= QUICK_STEP_RAD:
             motion, walk = self._quick_step(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
