@@ -11,11 +11,11 @@ from agents.behavior.stall import GAP_S, PUSH_S, STALL_BALL_M, STALL_S, StallWat
 STEP_S = 0.04
 
 
-def _watch(watch: StallWatch, seconds: float, ball_xy=(2.99, -0.67), near: bool = True, start_s: float = 0.0,
+def _watch(watch: StallWatch, seconds: float, ball_xy: tuple[float, float] = (2.99, -0.67), near: bool = True,
            wobble_m: float = 0.0) -> list[bool]:
     """Calls the watch every control step for ``seconds``; the believed ball wobbles by ``wobble_m``."""
     steps = round(seconds / STEP_S)
-    return [watch.pushing(start_s + k * STEP_S, (ball_xy[0] + wobble_m * math.sin(k), ball_xy[1]), near)
+    return [watch.pushing(k * STEP_S, (ball_xy[0] + wobble_m * math.sin(k), ball_xy[1]), near)
             for k in range(steps)]
 
 
