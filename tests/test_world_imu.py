@@ -75,3 +75,24 @@ def test_without_noise_the_readings_are_exact() -> None:
 def test_bad_noise_settings_are_refused(bad: float) -> None:
     with pytest.raises(ValueError, match="gyro_bias_sigma_radps"):
         ImuNoise(gyro_bias_sigma_radps=bad)
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_the_gyro_summed_over_steps_is_the_torso_s_turn_even_when_jostled(seed: int) -> None:
+    """Two robots walking into each other jostle their torsos: an instant's angular velocity per
+    step summed 20 degrees off the turn in 10 s; the mean over each step sums to the turn."""
+    exact = WorldConfig(imu_noise=ImuNoise(0.0, 0.0, 0.0, 0.0))
+    specs = [RobotSpec("a", TeamColor.BLUE), RobotSpec("b", TeamColor.RED)]
+    with World(specs, exact, seed=seed) as world:
+        world.place_robot("a", Pose2D(0.0, 0.0, 0.0))
+        world.place_robot("b", Pose2D(0.32, 0.08, math.pi))
+        summed, turned, last = 0.0, 0.0, world.robot_pose("a").theta
+        for _ in range(STEPS):
+            world.command_walk("a", 0.2, 0.05, 0.0)
+            world.command_walk("b", 0.2, -0.05, 0.0)
+            world.step()
+            summed += world.sensors("a").gyro_radps[2] * 0.04
+            theta = world.robot_pose("a").theta
+            turned, last = turned + math.remainder(theta - last, math.tau), theta
+    assert abs(turned) > math.radians(90.0)  # they pushed each other round
+    assert summed == pytest.approx(turned, abs=math.radians(1.0))

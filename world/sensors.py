@@ -49,6 +49,29 @@ def to_torso(m: tuple[float, ...], vector: tuple[float, float, float]) -> tuple[
     return (m[0] * x + m[3] * y + m[6] * z, m[1] * x + m[4] * y + m[7] * z, m[2] * x + m[5] * y + m[8] * z)
 
 
+def mean_angular_velocity(
+    previous: tuple[float, float, float, float], current: tuple[float, float, float, float], dt_s: float
+) -> tuple[float, float, float]:
+    """The mean angular velocity (rad/s, torso frame) of a body that turned from orientation
+    ``previous`` to ``current`` (pybullet quaternions x, y, z, w; torso->world) in ``dt_s``: the
+    rotation vector of the turn between them over the time. The turn's axis is the same in the
+    torso frame at the start and at the end."""
+    px, py, pz, pw = previous
+    cx, cy, cz, cw = current
+    # conjugate(previous) * current: the turn in the torso frame at the start
+    w = pw * cw + px * cx + py * cy + pz * cz
+    x = pw * cx - px * cw - py * cz + pz * cy
+    y = pw * cy + px * cz - py * cw - pz * cx
+    z = pw * cz - px * cy + py * cx - pz * cw
+    if w < 0.0:  # the same turn, the short way round
+        w, x, y, z = -w, -x, -y, -z
+    sine = math.sqrt(x * x + y * y + z * z)
+    if sine < 1e-12:
+        return (0.0, 0.0, 0.0)
+    scale = 2.0 * math.atan2(sine, w) / sine / dt_s
+    return (x * scale, y * scale, z * scale)
+
+
 def sonar_rays(client: int, body: int, config: SonarConfig) -> list[tuple[tuple, tuple]]:
     """Rays (start, end) of one robot's four sonars, ``len(config.cone_offsets_rad)`` each.
 

@@ -36,6 +36,7 @@ from world.sensors import (
     SensorReading,
     bumpers,
     head_angles,
+    mean_angular_velocity,
     sonar_distances,
     sonar_rays_batch,
     to_torso,
@@ -69,6 +70,8 @@ class WorldSnapshot:
     last_toucher: tuple[str | None, float | None]
     previous_velocity: dict
     accelerations: dict
+    previous_orientation: dict
+    angular_velocities: dict
     rng_state: dict
     imu_rng_state: dict
     imu_bias: dict
@@ -161,6 +164,8 @@ class World:
         self._last_toucher: tuple[str | None, float | None] = (None, None)
         self._previous_velocity = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
         self._accelerations = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
+        self._previous_orientation = {rid: self._orientation(body) for rid, body in self._bodies.items()}
+        self._angular_velocities = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
         # Let the robots settle on their feet before the initial state is saved.
         for _ in range(25):
             self.step()
@@ -224,6 +229,8 @@ class World:
             last_toucher=self._last_toucher,
             previous_velocity=dict(self._previous_velocity),
             accelerations=dict(self._accelerations),
+            previous_orientation=dict(self._previous_orientation),
+            angular_velocities=dict(self._angular_velocities),
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
             imu_rng_state=copy.deepcopy(self._imu_rng.bit_generator.state),
             imu_bias=copy.deepcopy(self._imu_bias),
@@ -249,6 +256,8 @@ class World:
         self._last_toucher = snapshot.last_toucher
         self._previous_velocity = dict(snapshot.previous_velocity)
         self._accelerations = dict(snapshot.accelerations)
+        self._previous_orientation = dict(snapshot.previous_orientation)
+        self._angular_velocities = dict(snapshot.angular_velocities)
         self.rng.bit_generator.state = copy.deepcopy(snapshot.rng_state)
         self._imu_rng.bit_generator.state = copy.deepcopy(snapshot.imu_rng_state)
         self._imu_bias = copy.deepcopy(snapshot.imu_bias)
@@ -305,6 +314,8 @@ class World:
         controller.set_head(0.0, 0.0)
         self._previous_velocity[robot_id] = (0.0, 0.0, 0.0)
         self._accelerations[robot_id] = (0.0, 0.0, 0.0)
+        self._previous_orientation[robot_id] = orientation
+        self._angular_velocities[robot_id] = (0.0, 0.0, 0.0)
 
     def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
         """Put the ball on the ground at (x, y) with planar velocity (vx, vy) m/s."""
@@ -369,7 +380,7 @@ class World:
                 pb.stepSimulation(physicsClientId=client)
                 self.time_s += dt
                 self._record_ball_touch()
-            self._update_accelerations(physics.control_step_s)
+            self._update_inertial(physics.control_step_s)
 
     def _record_ball_touch(self) -> None:
         for contact in pb.getContactPoints(bodyA=self._ball, physicsClientId=self._client):
@@ -377,12 +388,22 @@ class World:
             if robot is not None:
                 self._last_toucher = (robot, self.time_s)
 
-    def _update_accelerations(self, dt: float) -> None:
+    def _update_inertial(self, dt: float) -> None:
+        """The inertial unit's readings of the control step just played, as means over it: the
+        acceleration from the change of velocity (world frame), the angular velocity from the
+        rotation between the step's start and end (torso frame). An instant's angular velocity
+        would alias the yaw jitter of a torso jostled by contact into drift."""
         for rid, body in self._bodies.items():
             linear, _ = pb.getBaseVelocity(body, physicsClientId=self._client)
             previous = self._previous_velocity[rid]
             self._accelerations[rid] = tuple((a - b) / dt for a, b in zip(linear, previous))
             self._previous_velocity[rid] = linear
+            orientation = self._orientation(body)
+            self._angular_velocities[rid] = mean_angular_velocity(self._previous_orientation[rid], orientation, dt)
+            self._previous_orientation[rid] = orientation
+
+    def _orientation(self, body: int) -> tuple[float, float, float, float]:
+        return pb.getBasePositionAndOrientation(body, physicsClientId=self._client)[1]
 
     # ---- what robots sense ----------------------------------------------------------
 
@@ -495,7 +516,6 @@ class World:
             controller = self._controllers[rid]
             _, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
             m = pb.getMatrixFromQuaternion(orientation)
-            _, angular = pb.getBaseVelocity(body, physicsClientId=client)
             ax, ay, az = self._accelerations[rid]
             yaw, pitch = head_angles(client, body)
             gyro_bias, accelerometer_bias = self._imu_bias[rid]
@@ -506,7 +526,7 @@ class World:
                 accelerometer_mps2=self._imu_reading(
                     to_torso(m, (ax, ay, az + GRAVITY_MPS2)), accelerometer_bias, noise.accelerometer_noise_sigma_mps2
                 ),
-                gyro_radps=self._imu_reading(to_torso(m, angular), gyro_bias, noise.gyro_noise_sigma_radps),
+                gyro_radps=self._imu_reading(self._angular_velocities[rid], gyro_bias, noise.gyro_noise_sigma_radps),
                 sonar_m=sonar_distances(hits[i * rays_per_robot : (i + 1) * rays_per_robot], self.config.sonar),
                 bumpers=bumpers(client, body, self._ground_ids),
                 motion=controller.status(self.time_s),
