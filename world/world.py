@@ -70,7 +70,7 @@ class WorldSnapshot:
     last_toucher: tuple[str | None, float | None]
     previous_velocity: dict
     accelerations: dict
-    previous_orientation: dict
+    orientations: dict
     angular_velocities: dict
     rng_state: dict
     imu_rng_state: dict
@@ -164,7 +164,9 @@ class World:
         self._last_toucher: tuple[str | None, float | None] = (None, None)
         self._previous_velocity = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
         self._accelerations = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
-        self._previous_orientation = {rid: self._orientation(body) for rid, body in self._bodies.items()}
+        # each torso's orientation at the end of the last step (or its placement): the gyro's start
+        # of the next step, and what the sensors read it from
+        self._orientations = {rid: self._orientation(body) for rid, body in self._bodies.items()}
         self._angular_velocities = {rid: (0.0, 0.0, 0.0) for rid in self._bodies}
         # Let the robots settle on their feet before the initial state is saved.
         for _ in range(25):
@@ -229,7 +231,7 @@ class World:
             last_toucher=self._last_toucher,
             previous_velocity=dict(self._previous_velocity),
             accelerations=dict(self._accelerations),
-            previous_orientation=dict(self._previous_orientation),
+            orientations=dict(self._orientations),
             angular_velocities=dict(self._angular_velocities),
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
             imu_rng_state=copy.deepcopy(self._imu_rng.bit_generator.state),
@@ -256,7 +258,7 @@ class World:
         self._last_toucher = snapshot.last_toucher
         self._previous_velocity = dict(snapshot.previous_velocity)
         self._accelerations = dict(snapshot.accelerations)
-        self._previous_orientation = dict(snapshot.previous_orientation)
+        self._orientations = dict(snapshot.orientations)
         self._angular_velocities = dict(snapshot.angular_velocities)
         self.rng.bit_generator.state = copy.deepcopy(snapshot.rng_state)
         self._imu_rng.bit_generator.state = copy.deepcopy(snapshot.imu_rng_state)
@@ -314,7 +316,7 @@ class World:
         controller.set_head(0.0, 0.0)
         self._previous_velocity[robot_id] = (0.0, 0.0, 0.0)
         self._accelerations[robot_id] = (0.0, 0.0, 0.0)
-        self._previous_orientation[robot_id] = orientation
+        self._orientations[robot_id] = orientation
         self._angular_velocities[robot_id] = (0.0, 0.0, 0.0)
 
     def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
@@ -399,8 +401,8 @@ class World:
             self._accelerations[rid] = tuple((a - b) / dt for a, b in zip(linear, previous))
             self._previous_velocity[rid] = linear
             orientation = self._orientation(body)
-            self._angular_velocities[rid] = mean_angular_velocity(self._previous_orientation[rid], orientation, dt)
-            self._previous_orientation[rid] = orientation
+            self._angular_velocities[rid] = mean_angular_velocity(self._orientations[rid], orientation, dt)
+            self._orientations[rid] = orientation
 
     def _orientation(self, body: int) -> tuple[float, float, float, float]:
         return pb.getBasePositionAndOrientation(body, physicsClientId=self._client)[1]
@@ -514,8 +516,7 @@ class World:
         for i, rid in enumerate(ids):
             body = self._bodies[rid]
             controller = self._controllers[rid]
-            _, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
-            m = pb.getMatrixFromQuaternion(orientation)
+            m = pb.getMatrixFromQuaternion(self._orientations[rid])
             ax, ay, az = self._accelerations[rid]
             yaw, pitch = head_angles(client, body)
             gyro_bias, accelerometer_bias = self._imu_bias[rid]

@@ -136,10 +136,5 @@ def restart_aim(ball_xy: tuple[float, float], way_rad: float, attack: float, hel
     if not -most <= way <= -RESTART_OFF_LINE_RAD:
         edges = (-RESTART_OFF_LINE_RAD, -most)
         toward = way if held_rad is None else in_attack_frame(held_rad)
-        way = min(edges, key=lambda edge: _gap(toward, edge))
+        way = min(edges, key=lambda edge: abs(math.remainder(toward - edge, math.tau)))
     return Aim(bx + attack * AIM_DISTANCE_M * math.cos(way), by + side * AIM_DISTANCE_M * math.sin(way), False)
-
-
-def _gap(a_rad: float, b_rad: float) -> float:
-    """The angle between two directions (rad, 0..pi)."""
-    return abs(math.remainder(a_rad - b_rad, math.tau))
