@@ -13,7 +13,7 @@ from agents.policies import make_policy
 from agents.team.agent import TeamAgent
 from match.free_play import FreePlay
 from match.game import MatchConfig
-from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, make_action, observation_space
+from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, make_action, observation_space, throw_in_spot
 from match.runner import run_match
 from tests.user_policies import RadioFuzzer
 from world.camera_model import CameraPosition
@@ -571,10 +571,13 @@ def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() 
         agent.reset("away_2", 0)
         agent.step = 1000
         agent._ball_in_s = agent.now_s - out_for_s
+        restart = agent._expected_restart(BallEstimate(*ball_xy, 0.0, 0.0, 0.05, 0.0), GoalColor.YELLOW)
         ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.05, 0.0)
-        return agent._strike(pose, ball, None, -1.0, (0.0, 0.0))
+        return agent._strike(pose, ball, None, -1.0, (0.0, 0.0), restart)
 
     waiting = strike(believed, OUT_WAIT_S - DT_S)
-    assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(believed, -1.0))
+    # nobody of its team kicked: the other team put it out, and the referee puts it 1 m toward their goal
+    spot = throw_in_spot(believed[0], believed[1], False, GoalColor.BLUE)
+    assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(spot, -1.0))
     playing = strike(believed, OUT_WAIT_S + DT_S)
     assert playing == strike(inside, 0.0) and playing != waiting

@@ -25,7 +25,9 @@ One step (40 ms) runs, from the observation only:
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
    goal computed from its pose estimate, within 3 m of it into the widest part of the mouth
-   no robot it saw covers (:mod:`agents.behavior.shot_window`) (a ball believed out: it waits on the throw-in line;
+   no robot it saw covers (:mod:`agents.behavior.shot_window`) (a ball going out or out: striker and roles
+   are chosen by the spot the referee will put it back on, and the striker waits behind it,
+   :mod:`agents.modelling.ball_out`;
    a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`;
    a throw-in's ball still on the throw-in line: the quickest first touch that sends it neither
    back toward the own goal nor out);
@@ -56,6 +58,7 @@ from agents.behavior.roles import Candidate, assign_role, role_position, time_to
 from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
 from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_model import BallEstimate, BallModel
+from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, expected_spot, leaving_point, out_of_field
 from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
@@ -71,7 +74,6 @@ from agents.vision.robots import find_robots
 from match.protocol import (
     PENALTY_KICKER_BEHIND_BALL_M,
     THROW_IN_INSET_M,
-    THROW_IN_MAX_X_M,
     AgentId,
     AgentReport,
     CameraChoice,
@@ -119,9 +121,10 @@ PENALTY_LOOK_S = 1.5  # a penalty kicker looks at the goal this long of the kick
 SHOT_TOP_FRAME_EVERY = 3  # lining a shot up with the ball at its feet, every this many frames come from the top camera
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
-OUT_MARGIN_M = 0.1  # a ball believed this far beyond a line is out: the striker waits for it on the throw-in line ...
-THROW_IN_WAIT_BACK_M = 0.3  # ... this far on its own side of where it went out ...
-OUT_WAIT_S = 3.0  # ... this long at most: the referee puts a ball back 2 s after it left (believed out longer: it is in)
+THROW_IN_WAIT_BACK_M = 0.3  # a striker waits for a ball going out this far on its own side of the rule's spot ...
+OUT_WAIT_S = 3.0  # ... the ball believed out this long at most: the referee puts a ball back 2 s after it left (believed
+# out longer: it is in)
+TEAMMATE_KICK_HEARD_S = 0.3  # a teammate's message this fresh saying it kicks: the own team touched the ball
 IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved this far inside the line
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
 DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
@@ -194,6 +197,7 @@ class TeamAgent:
         self._shot_direction_rad: float | None = None  # the direction its last shot window aimed at (field frame)
         self._lining_up_s = -math.inf  # when it last lined up a shot with the ball at its feet (own clock)
         self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
+        self._own_touch_s = -math.inf  # when it or a teammate last meant to kick or push the ball (own clock)
 
     @property
     def now_s(self) -> float:
@@ -370,14 +374,19 @@ class TeamAgent:
             self._kicked_s = self.now_s
             return obs.motion, skills.STILL, head
         attack = 1.0 if obs.game.defended_goal is GoalColor.BLUE else -1.0
-        self.role = self._shootout_role(obs) if _shootout(obs) else self._assign_role(pose, ball_field, obs)
+        self._note_own_touch()
+        restart = None if _shootout(obs) else self._expected_restart(ball_field, obs.game.defended_goal)
+        play_xy = restart if restart is not None else None if ball_field is None else (ball_field.x, ball_field.y)
+        self.role = self._shootout_role(obs) if _shootout(obs) else self._assign_role(pose, play_xy, obs)
         if self.role is Role.NONE:
             self.intention = Intention.NONE
             return Motion.STAND, skills.STILL, head
-        if self.role is Role.STRIKER or (self.role is Role.GOALKEEPER and self._keeper_clears(ball_rel, pose, attack)):
+        if self.role is Role.STRIKER:
+            return self._strike(pose, ball_rel, ball_field, attack, head, restart)
+        if self.role is Role.GOALKEEPER and self._keeper_clears(ball_rel, pose, attack):
             return self._strike(pose, ball_rel, ball_field, attack, head)
         self.intention = Intention.POSITION
-        target = role_position(self.role, None if ball_field is None else (ball_field.x, ball_field.y), attack)
+        target = role_position(self.role, play_xy, attack)
         motion, walk = skills.walk_to(pose, target)
         return motion, walk, head
 
@@ -397,13 +406,31 @@ class TeamAgent:
         if team is not None:
             self._last_ball_xy = (team.x, team.y)
         believed = own if own is not None else team
-        if believed is None or not _out_of_field((believed.x, believed.y)):
+        if believed is None or not out_of_field((believed.x, believed.y)):
             self._ball_in_s = self.now_s
         self._believed_balls = (None if own is None else (own.x, own.y), None if team is None else (team.x, team.y))
         return team
 
-    def _assign_role(self, pose: Pose2D, ball: BallEstimate | None, obs: Observation) -> Role:
-        own_time = math.inf if ball is None else time_to_ball(pose, (ball.x, ball.y), obs.fallen)
+    def _expected_restart(self, ball: BallEstimate | None, defended: GoalColor) -> tuple[float, float] | None:
+        """Where the referee will put back the team's ball (field frame), if it is going out or out
+        (believed out for less than :data:`OUT_WAIT_S`); else None (:mod:`agents.modelling.ball_out`)."""
+        if ball is None or self.now_s - self._ball_in_s >= OUT_WAIT_S:
+            return None
+        out = leaving_point(ball)
+        if out is None:
+            return None
+        return expected_spot(out, self.now_s - self._own_touch_s < OWN_TOUCH_MEMORY_S, defended)
+
+    def _note_own_touch(self) -> None:
+        """Whether the own team may have touched the ball now: it meant to kick or push it last step, or a
+        teammate's fresh message says so (the guess of who put a ball out, :meth:`_expected_restart`)."""
+        if self.intention is Intention.KICK or any(
+                m.message.intention is Intention.KICK and m.age_s < TEAMMATE_KICK_HEARD_S
+                for m in self.team.teammates(self.now_s)):
+            self._own_touch_s = self.now_s
+
+    def _assign_role(self, pose: Pose2D, ball_xy: tuple[float, float] | None, obs: Observation) -> Role:
+        own_time = math.inf if ball_xy is None else time_to_ball(pose, ball_xy, obs.fallen)
         self._time_to_ball_s = own_time
         others = [Candidate(m.message.player, m.message.time_to_ball_s, m.message.role is Role.STRIKER)
                   for m in self.team.teammates(self.now_s) if not m.message.fallen]
@@ -423,7 +450,10 @@ class TeamAgent:
         return pose.x * attack < -FIELD.half_length + 0.9
 
     def _strike(self, pose: Pose2D, ball_rel: BallEstimate | None, ball_field: BallEstimate | None, attack: float,
-                head: tuple[float, float]) -> tuple[Motion, tuple[float, float, float], tuple[float, float]]:
+                head: tuple[float, float], restart: tuple[float, float] | None = None
+                ) -> tuple[Motion, tuple[float, float, float], tuple[float, float]]:
+        """Play the ball; one going out (``restart``: where the referee will put it back, field frame):
+        wait behind that spot."""
         if ball_rel is None and ball_field is None:
             self.intention = Intention.SEARCH
             if self._just_kicked():  # follow the kick before turning round to search
@@ -432,13 +462,13 @@ class TeamAgent:
                 return Motion.STAND, skills.STILL, head
             return Motion.WALK, skills.walk_command(0.0, 0.0, skills.SEARCH_TURN_RADPS), head
         self.intention = Intention.GO_TO_BALL
+        if restart is not None:
+            motion, walk = skills.walk_to(pose, _throw_in_wait_pose(restart, attack))
+            return motion, walk, head
         goal_x = FIELD.half_length * attack
         ball_xy = (ball_field.x, ball_field.y) if ball_rel is None else _in_field(pose, ball_rel)
-        if _out_of_field(ball_xy):
-            if self.now_s - self._ball_in_s < OUT_WAIT_S:  # the referee will put it on the throw-in line: wait there
-                motion, walk = skills.walk_to(pose, _throw_in_wait_pose(ball_xy, attack))
-                return motion, walk, head
-            ball_xy = _into_field(ball_xy)  # not put back: it lies on a line, believed a little beyond it
+        if out_of_field(ball_xy):  # not put back: it lies on a line, believed a little beyond it
+            ball_xy = _into_field(ball_xy)
         aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
         shot = None
         goal_line = on_their_goal_line(ball_xy, attack)
@@ -705,11 +735,6 @@ def _shootout(obs: Observation) -> bool:
     return obs.game.secondary is SecondaryState.PENALTY_SHOOTOUT
 
 
-def _out_of_field(ball_xy: tuple[float, float]) -> bool:
-    """Whether a ball believed at ``ball_xy`` (field frame) is over a side or end line (by :data:`OUT_MARGIN_M`)."""
-    return abs(ball_xy[0]) > FIELD.half_length + OUT_MARGIN_M or abs(ball_xy[1]) > FIELD.half_width + OUT_MARGIN_M
-
-
 def _heading_error(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> float:
     """The direction from the ball to ``aim_xy`` minus the robot's heading, normalized (field frame, rad)."""
     return math.remainder(math.atan2(aim_xy[1] - ball_xy[1], aim_xy[0] - ball_xy[0]) - pose.theta, math.tau)
@@ -721,13 +746,10 @@ def _into_field(ball_xy: tuple[float, float]) -> tuple[float, float]:
     return min(max(ball_xy[0], -x_max), x_max), min(max(ball_xy[1], -y_max), y_max)
 
 
-def _throw_in_wait_pose(ball_xy: tuple[float, float], attack: float) -> Pose2D:
-    """Where a striker waits while the ball is out: on the throw-in line, a little on the own side of
-    where the ball went out (the referee puts it back 1 m toward the goal of the team that touched it
-    last), facing the opponent goal."""
-    x = min(max(ball_xy[0] - attack * THROW_IN_WAIT_BACK_M, -THROW_IN_MAX_X_M), THROW_IN_MAX_X_M)
-    y = math.copysign(FIELD.half_width - THROW_IN_INSET_M, ball_xy[1])
-    return Pose2D(x, y, 0.0 if attack > 0 else math.pi)
+def _throw_in_wait_pose(spot_xy: tuple[float, float], attack: float) -> Pose2D:
+    """Where a striker waits for a ball going out (field frame): :data:`THROW_IN_WAIT_BACK_M` on its own
+    side of the spot the referee will put it on (on the throw-in line), facing the opponent goal."""
+    return Pose2D(spot_xy[0] - attack * THROW_IN_WAIT_BACK_M, spot_xy[1], 0.0 if attack > 0 else math.pi)
 
 
 def _relative(pose: Pose2D, ball: BallEstimate) -> BallEstimate:
