@@ -13,7 +13,16 @@ from agents.policies import make_policy
 from agents.team.agent import TeamAgent
 from match.free_play import FreePlay
 from match.game import MatchConfig
-from match.protocol import CameraChoice, GameState, GoalColor, Motion, Pose2D, make_action, observation_space, throw_in_spot
+from match.protocol import (
+    CameraChoice,
+    GameState,
+    GoalColor,
+    Motion,
+    Pose2D,
+    make_action,
+    observation_space,
+    throw_in_spot,
+)
 from match.runner import run_match
 from tests.user_policies import RadioFuzzer
 from world.camera_model import CameraPosition
@@ -581,3 +590,82 @@ def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() 
     assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(spot, -1.0))
     playing = strike(believed, OUT_WAIT_S + DT_S)
     assert playing == strike(inside, 0.0) and playing != waiting
+
+
+def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_have_touched_it() -> None:
+    """A ball rolling over the side line: the robot waits behind the rule's spot, 1 m toward the goal
+    of the team it guesses touched the ball last: its own if it or a teammate (a fresh message) meant
+    to kick it within OWN_TOUCH_MEMORY_S, else the other team's."""
+    from agents.behavior import skills
+    from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S
+    from agents.team.agent import _relative, _throw_in_wait_pose
+    from agents.team.messages import Intention, Role, TeamMessage
+
+    rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)  # rests 2 m on, the path crosses the line at x = 0.5
+    pose = Pose2D(0.2, 0.8, 0.0)
+
+    def restart(setup) -> tuple[float, float] | None:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent._ball_in_s = agent.now_s  # believed in the field until now
+        setup(agent)
+        agent._note_own_touch()
+        return agent._expected_restart(rolling, GoalColor.BLUE)  # home defends blue: attacks +x
+
+    def kicked(agent: TeamAgent) -> None:
+        agent.intention = Intention.KICK
+
+    def teammate_kicked(agent: TeamAgent) -> None:
+        agent.team.hear(TeamMessage(player=3, sequence=1, pose=(0.4, 1.4, 1.5), intention=Intention.KICK,
+                                    role=Role.STRIKER), agent.now_s)
+
+    def kicked_long_ago(agent: TeamAgent) -> None:
+        agent._own_touch_s = agent.now_s - OWN_TOUCH_MEMORY_S - 0.1
+
+    line_y = FIELD.half_width - 0.4
+    assert restart(kicked) == pytest.approx((-0.5, line_y))  # its own touch: 1 m toward its own goal
+    assert restart(teammate_kicked) == pytest.approx((-0.5, line_y))
+    assert restart(kicked_long_ago) == pytest.approx((1.5, line_y))  # the other team's
+    assert restart(lambda agent: None) == pytest.approx((1.5, line_y))
+    slow = BallEstimate(0.5, 1.5, 0.0, 0.2, 0.05, 0.0)  # rests inside: played, not waited for
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    assert agent._expected_restart(slow, GoalColor.BLUE) is None
+    assert agent._expected_restart(rolling, GoalColor.BLUE) is not None
+    agent.step = 1000  # the ball believed out (or no ball) since the start: the referee would have put it back
+    assert agent._expected_restart(rolling, GoalColor.BLUE) is None
+
+    spot = restart(lambda agent: None)
+    motion, walk, _ = agent._strike(pose, _relative(pose, rolling), rolling, 1.0, (0.0, 0.0), spot)
+    assert (motion, walk) == skills.walk_to(pose, _throw_in_wait_pose(spot, 1.0))
+    assert _throw_in_wait_pose(spot, 1.0) == Pose2D(1.2, line_y, 0.0)  # behind it, facing the opponent goal
+
+
+def test_the_striker_of_a_ball_going_out_is_the_robot_nearest_the_spot_it_comes_back_on() -> None:
+    """Roles go by the time to the spot: a robot near the spot takes the striker's role from a teammate
+    near where the ball crosses the line, which would have kept it by the time to the ball."""
+    from types import SimpleNamespace
+
+    from agents.behavior.roles import time_to_ball
+    from agents.team.messages import Role, TeamMessage
+
+    rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)
+    near_crossing = Pose2D(0.5, 1.3, 1.5)
+    up = SimpleNamespace(fallen=False)
+
+    def role(ball_xy: tuple[float, float]) -> Role:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent.team.hear(TeamMessage(player=3, sequence=1, pose=(near_crossing.x, near_crossing.y, near_crossing.theta),
+                                    role=Role.STRIKER, time_to_ball_s=time_to_ball(near_crossing, ball_xy)),
+                        agent.now_s)
+        return agent._assign_role(Pose2D(spot[0] - 0.3, spot[1], 0.0), ball_xy, up)
+
+    foreseeing = TeamAgent()
+    foreseeing.reset("home_2", 0)
+    spot = foreseeing._expected_restart(rolling, GoalColor.BLUE)  # nobody of its team kicked: 1 m toward the other goal
+    assert spot == pytest.approx((1.5, FIELD.half_width - 0.4))
+    assert role(spot) is Role.STRIKER
+    assert role((rolling.x, rolling.y)) is not Role.STRIKER

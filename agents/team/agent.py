@@ -122,8 +122,8 @@ SHOT_TOP_FRAME_EVERY = 3  # lining a shot up with the ball at its feet, every th
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
 THROW_IN_WAIT_BACK_M = 0.3  # a striker waits for a ball going out this far on its own side of the rule's spot ...
-OUT_WAIT_S = 3.0  # ... the ball believed out this long at most: the referee puts a ball back 2 s after it left (believed
-# out longer: it is in)
+OUT_WAIT_S = 3.0  # ... the ball believed out this long at most: the referee puts a ball back 2 s after it left
+# (believed out longer: it is in)
 TEAMMATE_KICK_HEARD_S = 0.3  # a teammate's message this fresh saying it kicks: the own team touched the ball
 IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved this far inside the line
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
