@@ -422,8 +422,9 @@ class TeamAgent:
         return expected_spot(out, self.now_s - self._own_touch_s < OWN_TOUCH_MEMORY_S, defended)
 
     def _note_own_touch(self) -> None:
-        """Whether the own team may have touched the ball now: it meant to kick or push it last step, or a
-        teammate's fresh message says so (the guess of who put a ball out, :meth:`_expected_restart`)."""
+        """Notes the time when the own team may have touched the ball: this robot meant to kick or push it
+        last step, or a teammate's fresh message says it does (the guess of who put a ball out,
+        :meth:`_expected_restart`)."""
         if self.intention is Intention.KICK or any(
                 m.message.intention is Intention.KICK and m.age_s < TEAMMATE_KICK_HEARD_S
                 for m in self.team.teammates(self.now_s)):
