@@ -375,9 +375,17 @@ class TeamAgent:
             return obs.motion, skills.STILL, head
         attack = 1.0 if obs.game.defended_goal is GoalColor.BLUE else -1.0
         self._note_own_touch()
-        restart = None if _shootout(obs) else self._expected_restart(ball_field, obs.game.defended_goal)
-        play_xy = restart if restart is not None else None if ball_field is None else (ball_field.x, ball_field.y)
-        self.role = self._shootout_role(obs) if _shootout(obs) else self._assign_role(pose, play_xy, obs)
+        restart: tuple[float, float] | None = None  # where a ball going out comes back (field frame)
+        play_xy: tuple[float, float] | None = None  # what roles are chosen and placed by: that spot, else the ball
+        if _shootout(obs):
+            self.role = self._shootout_role(obs)
+        else:
+            restart = self._expected_restart(ball_field, obs.game.defended_goal)
+            if restart is not None:
+                play_xy = restart
+            elif ball_field is not None:
+                play_xy = (ball_field.x, ball_field.y)
+            self.role = self._assign_role(pose, play_xy, obs)
         if self.role is Role.NONE:
             self.intention = Intention.NONE
             return Motion.STAND, skills.STILL, head
