@@ -669,3 +669,23 @@ def test_the_striker_of_a_ball_going_out_is_the_robot_nearest_the_spot_it_comes_
     assert spot == pytest.approx((1.5, FIELD.half_width - 0.4))
     assert role(spot) is Role.STRIKER
     assert role((rolling.x, rolling.y)) is not Role.STRIKER
+
+
+def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does_not_hold_the_ball() -> None:
+    """Standing up, a striker's role and time to the ball are those of before its fall: its messages say it
+    is down, as while it lay, so that a teammate does not leave the ball to it."""
+    from agents.observation import MOTIONS
+    from agents.team.messages import Role, decode
+
+    agent = TeamAgent()
+    agent.reset("home_1", 0)
+    agent.role, agent._time_to_ball_s = Role.STRIKER, 0.5
+    packets = {}
+    for motion in (Motion.STAND_UP_FROM_BACK, Motion.WALK):
+        obs = _observation(3, motion=MOTIONS.index(motion), image=np.zeros((120, 160, 3), np.uint8))
+        obs["game"]["player"] = 1
+        for _ in range(5):  # a packet every fifth step
+            radio = agent.act(obs)["radio"]
+        packets[motion] = decode(bytes(radio))
+    assert packets[Motion.STAND_UP_FROM_BACK].fallen
+    assert not packets[Motion.WALK].fallen

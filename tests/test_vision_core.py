@@ -272,6 +272,18 @@ def test_the_goals_back_frame_is_not_taken_for_a_post(world, pipeline):
     assert any(b.rejected for b in result.goals.posts)
 
 
+@pytest.mark.render
+def test_a_back_upright_seen_alone_is_not_taken_for_a_post(world, pipeline):
+    """Beside the blue goal, looking across it: the near post's base is below the image, the far
+    post is out of it on the right, and the far post's back upright (0.04 m, 2.5 m away: 5 pixels
+    where a post would be 7.4) is the one goal-coloured column standing on the carpet."""
+    frame = look(world, Pose2D(-2.26, -1.45, math.radians(105.0)), math.radians(32.0), math.radians(1.0))
+    result = pipeline.process(frame)
+    assert not [p for p in result.percepts if p.kind is LandmarkKind.GOAL_POST]
+    thin = [b for b in result.goals.posts if b.rejected == "too thin for a post at its distance"]
+    assert any(b.core_width_px == 5 for b in thin)
+
+
 def _post_scene(model, base_row: int = 60, column: int = 80) -> tuple[np.ndarray, CameraFrame, int, int]:
     """Labels of a yellow post standing on the carpet, sized for the distance its base pixel gives:
     (labels, frame, width px, height px)."""

@@ -226,7 +226,7 @@ class TeamAgent:
         if escape is not None:  # a turn that does not turn: locked with another robot
             walk = escape
         self._walk = walk if motion is Motion.WALK else skills.STILL
-        radio = self._message(obs).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
+        radio = self._message(obs, busy).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
         camera = CameraChoice.of(self._frame_camera()) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
         return make_action(motion, walk=walk, head=skills.clip_head(*head), camera=camera, radio=radio)
 
@@ -684,7 +684,9 @@ class TeamAgent:
                 best = bearing
         return best, skills.SCAN_PITCH_RAD
 
-    def _message(self, obs: Observation) -> TeamMessage:
+    def _message(self, obs: Observation, recovering: bool) -> TeamMessage:
+        """This step's report; ``recovering``: lying or standing up, so teammates neither count it for the ball
+        (its role and time to the ball are those of before the fall) nor take its sightings."""
         pose = self.locator.pose
         ball = None
         rel = self.ball.relative()
@@ -701,7 +703,7 @@ class TeamAgent:
             ball_velocity=(0.0, 0.0) if ball is None else (ball.vx, ball.vy),
             ball_sigma_m=0.0 if ball is None else ball.sigma_m,
             ball_age_s=0.0 if ball is None else ball.age_s,
-            fallen=obs.fallen,
+            fallen=recovering,
             role=self.role,
             intention=self.intention,
             time_to_ball_s=self._time_to_ball_s,

@@ -65,7 +65,8 @@ class TeamMessage:
     ``pose`` and ``ball_xy`` are None when the sender has no estimate; ``*_sigma_*`` are
     one standard deviation; ``ball_age_s``: time since the sender last saw the ball itself
     or heard of it; ``time_to_ball_s``: its own estimate of how long it needs to reach the
-    ball (the role assignment compares these).
+    ball (the role assignment compares these); ``fallen``: lying or standing up (teammates then
+    leave it out of the role assignment and the team ball).
     """
 
     player: int
