@@ -683,7 +683,6 @@ def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does
     packets = {}
     for motion in (Motion.STAND_UP_FROM_BACK, Motion.WALK):
         obs = _observation(3, motion=MOTIONS.index(motion), image=np.zeros((120, 160, 3), np.uint8))
-        obs["game"]["player"] = 1
         for _ in range(5):  # a packet every fifth step
             radio = agent.act(obs)["radio"]
         packets[motion] = decode(bytes(radio))

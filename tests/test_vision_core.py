@@ -281,7 +281,7 @@ def test_a_back_upright_seen_alone_is_not_taken_for_a_post(world, pipeline):
     result = pipeline.process(frame)
     assert not [p for p in result.percepts if p.kind is LandmarkKind.GOAL_POST]
     thin = [b for b in result.goals.posts if b.rejected == "too thin for a post at its distance"]
-    assert any(b.core_width_px == 5 for b in thin)
+    assert any(b.core_width_px >= 5 for b in thin)  # over 0.65 of a post's 7.4 pixels: kept as a post before
 
 
 def _post_scene(model, base_row: int = 60, column: int = 80) -> tuple[np.ndarray, CameraFrame, int, int]:
