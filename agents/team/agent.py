@@ -226,7 +226,7 @@ class TeamAgent:
         if escape is not None:  # a turn that does not turn: locked with another robot
             walk = escape
         self._walk = walk if motion is Motion.WALK else skills.STILL
-        radio = self._message(obs, busy).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
+        radio = self._message(busy).encode() if self.step % RADIO_EVERY_STEPS == 0 else b""
         camera = CameraChoice.of(self._frame_camera()) if self.step % CAMERA_EVERY_STEPS == 0 else CameraChoice.OFF
         return make_action(motion, walk=walk, head=skills.clip_head(*head), camera=camera, radio=radio)
 
@@ -684,7 +684,7 @@ class TeamAgent:
                 best = bearing
         return best, skills.SCAN_PITCH_RAD
 
-    def _message(self, obs: Observation, recovering: bool) -> TeamMessage:
+    def _message(self, recovering: bool) -> TeamMessage:
         """This step's report; ``recovering``: lying or standing up, so teammates neither count it for the ball
         (its role and time to the ball are those of before the fall) nor take its sightings."""
         pose = self.locator.pose
