@@ -39,9 +39,10 @@ shoot-out's kicks count for nothing here):
   goalkeeper with the ball far away may also stand); ``longest_still_field_s``: the same
   over the field players alone (every robot but the goalkeeper, player 0);
 
-and for the match, ``restart_max_s``: the longest time from a kick-off or throw-in to the
-next touch of the ball (None without restarts; a restart nobody touched counts until the
-next restart or the end of play).
+and for the match, ``restart_waits_s``: the time from each kick-off and throw-in to the next
+touch of the ball, in order (a restart nobody touched counts until the next restart,
+half-time or the end of play); ``restart_max_s``, the longest of them (None without
+restarts); ``restarts_slow``, how many took longer than :data:`RESTART_SLOW_S`.
 """
 
 from __future__ import annotations
@@ -66,6 +67,7 @@ LOST_M = 0.5  # a pose estimate farther off than this is lost
 STILL_M = 0.1  # a robot that stays within this of a place ...
 STILL_RAD = math.radians(15.0)  # ... and of a heading, stands still
 RESTART_KINDS = ("kickoff", "throw_in")
+RESTART_SLOW_S = 10.0  # ours: a restart not touched within this long is slow (the team agents' target)
 SHOT_WINDOW_S = 0.4  # a shot's line: the ball's motion over this long after the touch ...
 BALL_DECEL_MPS2 = 0.4  # ... and its reach at this rolling deceleration (measured: 1.25 m/s rolls 2 m)
 
@@ -155,22 +157,24 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
     for side in SIDES:
         teams[side]["shots_on_target"] = sum(touches[k][1] == side for k in shots)
     playing_seconds = _from_log(teams, log, rows, owner)
-    return {"playing_seconds": round(playing_seconds, 3), "restart_max_s": _restart_max_s(play_events), **teams}
+    waits = _restart_waits_s(play_events)
+    return {"playing_seconds": round(playing_seconds, 3), "restart_waits_s": waits,
+            "restart_max_s": max(waits) if waits else None,
+            "restarts_slow": sum(1 for wait in waits if wait > RESTART_SLOW_S), **teams}
 
 
-def _restart_max_s(play_events: Sequence[Mapping]) -> float | None:
-    """The longest time from a kick-off or throw-in to the next touch (or next restart, or the end)."""
-    longest = None
+def _restart_waits_s(play_events: Sequence[Mapping]) -> list[float]:
+    """Each kick-off's and throw-in's time to the next touch (or the next restart, half-time or the end), s."""
+    waits = []
     restart_s = None
     for event in play_events:
         kind = event["kind"]
         if restart_s is not None and (kind == "touch" or kind in RESTART_KINDS or kind in ("half_time", "end")):
-            wait = float(event["time_s"]) - restart_s
-            longest = wait if longest is None else max(longest, wait)
+            waits.append(round(float(event["time_s"]) - restart_s, 3))
             restart_s = None
         if kind in RESTART_KINDS:
             restart_s = float(event["time_s"])
-    return None if longest is None else round(longest, 3)
+    return waits
 
 
 def _shootout_index(events: Sequence[Mapping]) -> int:

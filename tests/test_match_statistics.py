@@ -186,6 +186,26 @@ def test_lost_share_stillness_and_restarts(statistics: dict) -> None:
     assert home["longest_still_s"] == pytest.approx(5.0) and away["longest_still_s"] == pytest.approx(5.0)
     assert home["longest_still_field_s"] == away["longest_still_field_s"] == 0.0  # goalkeepers alone
     assert statistics["restart_max_s"] == pytest.approx(1.0)  # the kick-off at 1 s, the first touch at 2 s
+    assert statistics["restart_waits_s"] == [pytest.approx(1.0)] and statistics["restarts_slow"] == 0
+
+
+def test_every_restart_s_wait_is_timed_to_the_next_touch_or_restart() -> None:
+    events = [
+        {"time_s": 0.0, "kind": "state", "state": "PLAYING", "half": 1, "secondary": "NORMAL"},
+        {"time_s": 0.0, "kind": "kickoff", "team": "home", "half": 1},
+        {"time_s": 2.5, "kind": "touch", "robot": "home_1", "x": 0.0, "y": 0.0},
+        {"time_s": 3.5, "kind": "touch", "robot": "away_1", "x": 0.1, "y": 0.0},  # not a restart's
+        {"time_s": 6.0, "kind": "ball_out", "line": "side_line", "x": 1.0, "y": 2.1, "last_toucher": "away_1"},
+        {"time_s": 8.0, "kind": "throw_in", "x": 2.0, "y": 1.6, "line": "side_line"},
+        {"time_s": 18.5, "kind": "touch", "robot": "home_2", "x": 2.0, "y": 1.6},  # 10.5 s: slow
+        {"time_s": 20.0, "kind": "ball_out", "line": "side_line", "x": 1.0, "y": -2.1, "last_toucher": "home_2"},
+        {"time_s": 22.0, "kind": "throw_in", "x": 0.0, "y": -1.6, "line": "side_line"},
+        {"time_s": 29.0, "kind": "half_time", "score": {"home": 0, "away": 0}},  # untouched: counts to half-time
+    ]
+    log = hand_built_log()
+    statistics = match_statistics(events, log, {})
+    assert statistics["restart_waits_s"] == [pytest.approx(2.5), pytest.approx(10.5), pytest.approx(7.0)]
+    assert statistics["restarts_slow"] == 1 and statistics["restart_max_s"] == pytest.approx(10.5)
 
 
 def test_a_robot_that_moves_is_not_still() -> None:

@@ -46,7 +46,8 @@ def test_a_tournament_writes_every_output(one_worker: Path) -> None:
     for index in ("000", "001"):
         match = one_worker / "matches" / index
         data = json.loads((match / "summary.json").read_text(encoding="utf-8"))
-        assert set(data["statistics"]) == {"playing_seconds", "restart_max_s", "home", "away"}
+        assert set(data["statistics"]) == {"playing_seconds", "restart_waits_s", "restart_max_s", "restarts_slow",
+                                           "home", "away"}
         assert data["statistics"]["playing_seconds"] == pytest.approx(4.0, abs=0.05)
         assert data["radio"]["by_side"]["home"]["sent"] >= 0
         assert (match / "events.jsonl").stat().st_size > 0

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from scenarios.tournament.game_flow import game_flow
 from scenarios.tournament.report import RESULT_COLUMNS, build_report, table_markdown, winner_name
 from scenarios.tournament.run import write_report
 from scenarios.tournament.settings import TournamentError, TournamentSettings
@@ -162,6 +163,34 @@ def test_ratings_and_report_of_a_round_robin(tmp_path: Path) -> None:
     table = table_markdown(report)
     assert "## Ratings" in table and "## Head to head" in table and "draws / 2" in table
     assert "match 5 (gamma v alpha)" in table
+    assert "## Game flow" in table and "| alpha v beta | 4 | 4 | 8 | 8 | n/a | n/a | n/a | n/a |" in table
+    assert summary["head_to_head"][0]["game_flow"]["matches_with_goals"] == 4
+
+
+def flow_record(home: str, away: str, goals: tuple[int, int], own_goals: tuple[int, int] = (0, 0),
+                waits: list[float] | None = None, status: str = "ok") -> dict:
+    statistics = {side: {**dict.fromkeys(TEAM_KEYS, 0), "goals": g, "own_goals": o}
+                  for side, g, o in zip(("home", "away"), goals, own_goals)}
+    if waits is not None:
+        statistics["restart_waits_s"] = waits
+    return {"home_entrant": home, "away_entrant": away, "status": status,
+            "statistics": statistics if status == "ok" else None}
+
+
+def test_game_flow_pools_a_pair_s_goals_and_restart_waits() -> None:
+    records = [
+        flow_record("a", "b", (0, 0), waits=[2.0, 12.5, 4.0]),
+        flow_record("b", "a", (2, 1), own_goals=(0, 1), waits=[3.0, 10.0]),  # 10 s is not over 10 s
+        flow_record("a", "c", (5, 0), waits=[30.0]),  # another pair
+        flow_record("b", "a", (9, 9), status="failed"),  # counts for nothing
+        flow_record("a", "b", (0, 1)),  # an older record without the waits: its goals only
+    ]
+    flow = game_flow(records, "a", "b")
+    assert (flow.matches, flow.matches_with_goals, flow.goals, flow.own_goals) == (3, 2, 4, 1)
+    assert (flow.restarts, flow.restarts_slow, flow.restart_max_s) == (5, 1, 12.5)
+    assert flow.restart_median_s == pytest.approx(4.0)
+    untimed = game_flow(records[-1:], "a", "b")
+    assert untimed.restarts is None and untimed.restart_median_s is None and untimed.matches_with_goals == 1
 
 
 def test_winner_names() -> None:

@@ -13,9 +13,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from match.statistics import TEAM_KEYS
+from match.statistics import RESTART_SLOW_S, TEAM_KEYS
 from scenarios.common.io import json_safe, write_csv, write_json, write_text
 from scenarios.common.statistics import mean
+from scenarios.tournament.game_flow import GameFlow, game_flow
 from scenarios.tournament.settings import TournamentSettings
 from scenarios.tournament.statistics import (
     BOOTSTRAP_RESAMPLES,
@@ -56,9 +57,11 @@ class HeadToHead:
     second: str
     standing: Standing  # the first's
     verdict: str
+    flow: GameFlow
 
     def to_json(self) -> dict:
-        return {"first": self.first, "second": self.second, **self.standing.to_json(), "verdict": self.verdict}
+        return {"first": self.first, "second": self.second, **self.standing.to_json(), "verdict": self.verdict,
+                "game_flow": self.flow.to_json()}
 
 
 @dataclass(frozen=True)
@@ -93,7 +96,8 @@ def build_report(settings: TournamentSettings, records: Sequence[dict], wall_sec
     head = []
     for first, second in pairs:
         standing = Standing.of(first, games_of(records, first, second))
-        head.append(HeadToHead(first, second, standing, verdict(first, second, standing)))
+        head.append(HeadToHead(first, second, standing, verdict(first, second, standing),
+                               game_flow(records, first, second)))
     rated = tuple(ratings(records, entrants, settings.seed)) if len(settings.policies) >= 3 else None
     return TournamentReport(settings, tuple(records), standings, tuple(head), rated, team_means(records, entrants),
                             wall_seconds, versions or {})
@@ -172,6 +176,8 @@ DEFINITIONS = {
                f"95% interval: 2.5-97.5 percentiles of {BOOTSTRAP_RESAMPLES} bootstrap resamples of the matches "
                "within each pair"),
     "failed": "matches whose worker failed or died twice count for nothing",
+    "game_flow": (f"per pair: matches with a goal in playing time, goals and own goals, and every kick-off's and "
+                  f"throw-in's wait to the first touch: how many, how many over {RESTART_SLOW_S:g} s, median, longest"),
 }
 
 
@@ -206,6 +212,11 @@ def table_markdown(report: TournamentReport) -> str:
                   "goals against / match | goal difference / match | 95% CI |",
                   "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---|"]
         lines += [_standing_row(f"{h.first} v {h.second}", h.standing) for h in report.head_to_head]
+    lines += ["", "## Game flow", "",
+              "| pair | matches | with goals | goals | own goals | restarts | over "
+              f"{RESTART_SLOW_S:g} s | median wait (s) | longest wait (s) |",
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    lines += [_flow_row(f"{h.first} v {h.second}", h.flow) for h in report.head_to_head]
     lines += ["", "## Match statistics, mean per match", "",
               "| policy | " + " | ".join(header for _, header, _ in TABLE_STATISTICS) + " |",
               "|---|" + "---:|" * len(TABLE_STATISTICS)]
@@ -233,6 +244,12 @@ def _standing_row(name: str, st: Standing) -> str:
             f"{fmt(st.goals_for_per_match, '.2f')} | {fmt(st.goals_against_per_match, '.2f')} | "
             f"{fmt(st.goal_difference, '+.2f')} | [{fmt(st.goal_difference_ci95[0], '+.2f')}, "
             f"{fmt(st.goal_difference_ci95[1], '+.2f')}] |")
+
+
+def _flow_row(name: str, flow: GameFlow) -> str:
+    return (f"| {name} | {flow.matches} | {flow.matches_with_goals} | {flow.goals} | {flow.own_goals} | "
+            f"{fmt(flow.restarts, 'd')} | {fmt(flow.restarts_slow, 'd')} | {fmt(flow.restart_median_s, '.1f')} | "
+            f"{fmt(flow.restart_max_s, '.1f')} |")
 
 
 def write_table(path: Path, report: TournamentReport) -> Path:
