@@ -17,7 +17,11 @@ shoot-out's kicks count for nothing here):
   and the goal behind it), or leaves on a line that crosses that goal line between the
   posts fast enough to roll there (its motion over :data:`SHOT_WINDOW_S` after the touch,
   or until another robot's touch; so a shot deflected at once still counts); one per
-  touch, so a shot that scores counts once;
+  touch, so a shot that scores counts once; of those, ``shots_scored`` (the team scored
+  before one of its robots touched the ball again: a deflection by the other team still
+  scores), ``shots_saved`` (not scored, and the other team's goalkeeper touched it first) and
+  ``shots_blocked`` (not scored, and another robot of the other team touched it first); the
+  rest went out or were played on by the shooter's team;
 - ``touches``: ball touches in playing time (the referee's touch events);
 - ``possession``: share of playing time in which the team touched the ball last (time
   before the first touch counts for neither team; NaN-free: None when nobody touched it);
@@ -75,6 +79,9 @@ TEAM_KEYS = (
     "goals",
     "own_goals",
     "shots_on_target",
+    "shots_scored",
+    "shots_saved",
+    "shots_blocked",
     "touches",
     "possession",
     "balls_out",
@@ -156,6 +163,11 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
 
     for side in SIDES:
         teams[side]["shots_on_target"] = sum(touches[k][1] == side for k in shots)
+    touch_rows = [i for i, event in enumerate(play_events) if event["kind"] == "touch"]
+    for k in shots:
+        outcome = _shot_outcome(play_events, touch_rows[k])
+        if outcome is not None:
+            teams[touches[k][1]][f"shots_{outcome}"] += 1
     playing_seconds = _from_log(teams, log, rows, owner)
     waits = _restart_waits_s(play_events)
     return {"playing_seconds": round(playing_seconds, 3), "restart_waits_s": waits,
@@ -251,6 +263,29 @@ def _shots_by_line(log: Mapping[str, np.ndarray], touch_events: Sequence[Mapping
         if abs(cross_y) <= FIELD.goal_inner_width / 2.0 and to_line * math.hypot(*moved) <= reach:
             shots.add(k)
     return shots
+
+
+def _shot_outcome(play_events: Sequence[Mapping], row: int) -> str | None:
+    """``scored``, ``saved``, ``blocked`` or None for the shot whose touch is ``play_events[row]`` (see the module)."""
+    shot = play_events[row]
+    side, robot, shot_s = side_of(shot.get("robot")), shot.get("robot"), float(shot["time_s"])
+    first_other = None  # what the other team's first touch made of it
+    for event in play_events[row + 1:]:
+        kind = event["kind"]
+        if kind == "goal":
+            return "scored" if event["team"] == side else first_other
+        if kind == "touch":
+            toucher = event.get("robot")
+            if toucher == robot and float(event["time_s"]) <= shot_s + SHOT_WINDOW_S:
+                continue  # the kick's own contacts
+            if side_of(toucher) == side:
+                return first_other
+            if first_other is None:
+                is_keeper = isinstance(toucher, str) and AgentId.parse(toucher).is_goalkeeper
+                first_other = "saved" if is_keeper else "blocked"
+        elif kind in ("ball_out", "half_time", "end") or kind in RESTART_KINDS:
+            return first_other
+    return first_other
 
 
 def _deflected_shot(goal: Mapping, touches: Sequence[tuple[float, str | None]], shots: set[int]) -> bool:

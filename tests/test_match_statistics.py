@@ -257,3 +257,30 @@ def test_a_shot_deflected_at_once_is_the_shooter_s_goal(velocity_y: float, own_g
     statistics = match_statistics(events, log, {})
     assert statistics["home"]["own_goals"] == int(own_goal)
     assert statistics["away"]["shots_on_target"] == int(not own_goal)
+    assert statistics["away"]["shots_scored"] == int(not own_goal)  # the deflection still scores
+    assert statistics["away"]["shots_saved"] == 0  # the keeper's touch did not keep it out
+
+
+@pytest.mark.parametrize(("after", "shots", "outcomes"), [
+    ([(0.6, "touch", "home_0"), (0.9, "ball_out", None)], 1, (0, 1, 0)),  # the other team's goalkeeper first: saved
+    ([(0.6, "touch", "home_2"), (0.7, "touch", "home_0")], 1, (0, 0, 1)),  # another robot of theirs first: blocked
+    # the kick's second contact (a shot of its own, on the same line), then a deflection in: both scored
+    ([(0.2, "touch", "away_0"), (0.6, "touch", "home_2"), (0.9, "goal", None)], 2, (2, 0, 0)),
+    # played on by a teammate (whose touch is a shot too), then out: neither saved nor blocked
+    ([(0.6, "touch", "away_1"), (0.9, "ball_out", None)], 2, (0, 0, 0)),
+    ([(0.9, "ball_out", None), (2.9, "throw_in", None)], 1, (0, 0, 0)),  # over the line beside the post
+])
+def test_what_became_of_a_shot(after: list, shots: int, outcomes: tuple[int, int, int]) -> None:
+    # away_0 shoots from (-1.8, -0.2) at 1.5 m/s on a line between the posts of the goal it attacks (-x in half 1)
+    log = kicked_ball_log((-1.8, -0.2), (-1.5, -0.05), 1.0)
+    events = [{"time_s": 0.0, "kind": "touch", "robot": "away_0", "x": -1.8, "y": -0.2}]
+    for time_s, kind, robot in after:
+        event = {"time_s": time_s, "kind": kind}
+        if robot is not None:
+            event.update(robot=robot, x=-1.8 - 1.5 * time_s, y=-0.2)
+        if kind == "goal":
+            event.update(team="away", goal="blue", last_toucher="home_2", score={"home": 0, "away": 1})
+        events.append(event)
+    away = match_statistics(events, log, {})["away"]
+    assert away["shots_on_target"] == shots
+    assert (away["shots_scored"], away["shots_saved"], away["shots_blocked"]) == outcomes

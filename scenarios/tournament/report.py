@@ -37,6 +37,7 @@ RESULT_COLUMNS = (
 )
 TABLE_STATISTICS = (  # (key, header, format) of the per-policy means in table.md
     ("goals", "goals", ".2f"), ("own_goals", "own goals", ".2f"), ("shots_on_target", "shots on target", ".2f"),
+    ("shots_saved", "shots saved", ".2f"), ("shots_blocked", "shots blocked", ".2f"),
     ("touches", "touches", ".1f"), ("possession", "possession", ".2f"), ("balls_out", "balls out", ".2f"),
     ("falls", "falls", ".2f"), ("robots_replaced", "replaced", ".2f"), ("radio_sent", "radio sent", ".0f"),
     ("radio_dropped", "radio dropped", ".1f"), ("faults", "faults", ".1f"),
