@@ -129,7 +129,8 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
     play_events = events[:cut]
     shootout_s = float(events[cut]["time_s"]) if cut < len(events) else math.inf
     teams = {side: dict.fromkeys(TEAM_KEYS, 0) for side in SIDES}
-    touch_events = [e for e in play_events if e["kind"] == "touch"]
+    touch_rows = [i for i, event in enumerate(play_events) if event["kind"] == "touch"]
+    touch_events = [play_events[i] for i in touch_rows]
     touches = [(float(e["time_s"]), side_of(e.get("robot"))) for e in touch_events]
     rows = _playing_rows(log, shootout_s)
     last = _last_touches(touches, np.asarray(log["time_s"], dtype=float)[rows])
@@ -163,7 +164,6 @@ def match_statistics(events: Sequence[Mapping], log: Mapping[str, np.ndarray], s
 
     for side in SIDES:
         teams[side]["shots_on_target"] = sum(touches[k][1] == side for k in shots)
-    touch_rows = [i for i, event in enumerate(play_events) if event["kind"] == "touch"]
     for k in shots:
         outcome = _shot_outcome(play_events, touch_rows[k])
         if outcome is not None:

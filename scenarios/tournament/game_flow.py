@@ -14,9 +14,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-import numpy as np
-
 from match.statistics import RESTART_SLOW_S, SIDES
+from scenarios.common.statistics import median
 
 
 @dataclass(frozen=True)
@@ -54,6 +53,6 @@ def game_flow(records: Sequence[Mapping], first: str, second: str) -> GameFlow:
         own_goals=sum(int(s[side]["own_goals"]) for s in played for side in SIDES),
         restarts=len(waits) if timed else None,
         restarts_slow=sum(1 for w in waits if w > RESTART_SLOW_S) if timed else None,
-        restart_median_s=round(float(np.median(waits)), 3) if waits else None,
+        restart_median_s=round(median(waits), 3) if waits else None,
         restart_max_s=max(waits) if waits else None,
     )
