@@ -64,7 +64,7 @@ def shot_window(
     """The shot at the goal whose line is at ``goal_x`` (+-3 m) for a ball at ``ball_xy`` with robots at
     ``blockers_xy`` (field frame, m); ``previous_direction_rad``: the direction aimed at last, kept while
     its interval stays open and wide enough (see the module)."""
-    bx, by = _finite_pair(ball_xy, "ball_xy")
+    bx, by = finite_pair(ball_xy, "ball_xy")
     if not (math.isfinite(goal_x) and abs(goal_x) > 0.0):
         raise ShotWindowError(f"goal_x must be a finite, non-zero x of a goal line (m); got {goal_x!r}")
     ahead = math.copysign(1.0, goal_x) * (goal_x - bx)  # from the ball to the goal line, along the attack
@@ -72,24 +72,24 @@ def shot_window(
         raise ShotWindowError(f"ball_xy {ball_xy!r} lies on or beyond the goal line at x = {goal_x}")
     base = math.atan2(-by, goal_x - bx)  # toward the goal's centre: all directions are taken relative to it
     mouth_y = FIELD.goal_inner_width / 2.0 - POST_MARGIN_M
-    lo, hi = sorted(_relative(math.atan2(y - by, goal_x - bx), base) for y in (-mouth_y, mouth_y))
+    lo, hi = sorted(relative(math.atan2(y - by, goal_x - bx), base) for y in (-mouth_y, mouth_y))
     covers = []
     for point in blockers_xy:
-        ox, oy = _finite_pair(point, "a blocker")
+        ox, oy = finite_pair(point, "a blocker")
         along = math.copysign(1.0, goal_x) * (ox - bx)
         if not 0.0 < along <= ahead + BEHIND_LINE_M:
             continue
         distance = math.hypot(ox - bx, oy - by)
         half = math.asin(min(1.0, BLOCKER_RADIUS_M / distance))
-        centre = _relative(math.atan2(oy - by, ox - bx), base)
+        centre = relative(math.atan2(oy - by, ox - bx), base)
         covers.append((centre - half, centre + half))
-    intervals = _open(lo, hi, covers)
+    intervals = open_intervals(lo, hi, covers)
     covered = not intervals
     if covered:
         intervals = [(lo, hi)]
     chosen = max(intervals, key=lambda iv: iv[1] - iv[0])
     if previous_direction_rad is not None and math.isfinite(previous_direction_rad):
-        previous = _relative(previous_direction_rad, base)
+        previous = relative(previous_direction_rad, base)
         for start, end in intervals:
             if start <= previous <= end and end - start >= KEEP_SHARE * (chosen[1] - chosen[0]):
                 chosen = (start, end)
@@ -102,8 +102,8 @@ def shot_window(
                       covered)
 
 
-def _open(lo: float, hi: float, covers: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """The parts of [lo, hi] outside every interval of ``covers``."""
+def open_intervals(lo: float, hi: float, covers: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The parts of [lo, hi] outside every interval of ``covers`` (sorted, non-empty)."""
     intervals = []
     start = lo
     for cover_lo, cover_hi in sorted(covers):
@@ -117,11 +117,12 @@ def _open(lo: float, hi: float, covers: list[tuple[float, float]]) -> list[tuple
     return [(a, b) for a, b in intervals if b > a]
 
 
-def _relative(direction_rad: float, base_rad: float) -> float:
+def relative(direction_rad: float, base_rad: float) -> float:
+    """``direction_rad`` minus ``base_rad``, normalized to (-pi, pi] (rad)."""
     return math.remainder(direction_rad - base_rad, math.tau)
 
 
-def _finite_pair(value: object, name: str) -> tuple[float, float]:
+def finite_pair(value: object, name: str) -> tuple[float, float]:
     try:
         x, y = (float(v) for v in value)  # type: ignore[union-attr]
     except (TypeError, ValueError):

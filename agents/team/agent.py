@@ -25,7 +25,8 @@ One step (40 ms) runs, from the observation only:
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
    goal computed from its pose estimate, within 3 m of it into the widest part of the mouth
-   no robot it saw covers (:mod:`agents.behavior.shot_window`) (a ball going out or out: striker and roles
+   no robot it saw covers (:mod:`agents.behavior.shot_window`), farther past the robots it saw in the
+   way (:mod:`agents.behavior.kick_past`) (a ball going out or out: striker and roles
    are chosen by the spot the referee will put it back on, and the striker waits behind it,
    :mod:`agents.modelling.ball_out`;
    a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`;
@@ -53,6 +54,7 @@ from typing import Any
 
 from agents.behavior import paths, skills
 from agents.behavior.aim import POST_CLEARANCE_M, Aim, kick_aim, on_their_goal_line, restart_aim
+from agents.behavior.kick_past import kick_past
 from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
@@ -118,7 +120,9 @@ SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the 
 POST_MARGIN_M = 0.15  # ... or, without one, between the posts this far inside them (a kick along such a line is a
 # shot: it may roll on toward a side line); a ball on their goal line is pushed in (agents.behavior.aim)
 PENALTY_LOOK_S = 1.5  # a penalty kicker looks at the goal this long of the kick's SET (3 s), then at the ball
-SHOT_TOP_FRAME_EVERY = 3  # lining a shot up with the ball at its feet, every this many frames come from the top camera
+KICK_PAST_NEAR_M = skills.GO_BEHIND_BEYOND_M  # a striker this near its ball in open play kicks past the robots in
+# the way (agents.behavior.kick_past): nearer than where it would walk round the ball for a new aim
+SHOT_TOP_FRAME_EVERY = 3  # lining a kick up with the ball at its feet, every this many frames come from the top camera
 FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
 FOLLOW_KICK_MPS = 0.15
 THROW_IN_WAIT_BACK_M = 0.3  # a striker waits for a ball going out this far on its own side of the rule's spot ...
@@ -195,7 +199,8 @@ class TeamAgent:
         self._first_touch_s = -math.inf  # when it began its first touch after the last throw-in (own clock)
         self._restart_aim_rad: float | None = None  # the direction of that first touch's last aim (field frame)
         self._shot_direction_rad: float | None = None  # the direction its last shot window aimed at (field frame)
-        self._lining_up_s = -math.inf  # when it last lined up a shot with the ball at its feet (own clock)
+        self._past_direction_rad: float | None = None  # the direction it last aimed at to kick past a robot (field frame)
+        self._lining_up_s = -math.inf  # when it last lined up a kick with the ball at its feet (own clock)
         self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
         self._own_touch_s = -math.inf  # when it or a teammate last meant to kick or push the ball (own clock)
 
@@ -231,9 +236,9 @@ class TeamAgent:
         return make_action(motion, walk=walk, head=skills.clip_head(*head), camera=camera, radio=radio)
 
     def _frame_camera(self) -> CameraPosition:
-        """The camera of this step's frame: the one the head chose, but while the striker lines up a shot with
+        """The camera of this step's frame: the one the head chose, but while the striker lines up a kick with
         the ball at its feet (bottom camera), every :data:`SHOT_TOP_FRAME_EVERY`-th frame the top one, which
-        sees the robots in front of the goal (the shot window's blockers) and the goal's posts."""
+        sees the robots in front of it (the shot window's blockers, those a kick must pass) and the goal's posts."""
         frame = self.step // CAMERA_EVERY_STEPS
         if self._lining_up_s == self.now_s and frame % SHOT_TOP_FRAME_EVERY == 0:
             return CameraPosition.TOP
@@ -488,6 +493,13 @@ class TeamAgent:
             if ball_rel is not None and ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
                 self._lining_up_s = self.now_s
             aim = goal_aim = Aim(*shot.aim_xy, False)
+        elif not aim.clearing and not goal_line and ball_rel is not None and ball_rel.distance_m < KICK_PAST_NEAR_M:
+            shot = kick_past(ball_xy, goal_x, self._robots_in_field(pose), self._past_direction_rad)
+            self._past_direction_rad = None if shot is None else shot.direction_rad
+            if ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
+                self._lining_up_s = self.now_s
+            if shot is not None:
+                aim = goal_aim = Aim(*shot.aim_xy, False)
         quick = self._quick_touch(ball_xy)
         near = ball_rel is not None and ball_rel.distance_m < QUICK_STEP_WITHIN_M
         if quick:
