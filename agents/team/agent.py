@@ -25,8 +25,8 @@ One step (40 ms) runs, from the observation only:
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
    goal computed from its pose estimate, within 3 m of it into the widest part of the mouth
-   no robot it saw covers (:mod:`agents.behavior.shot_window`), farther past the robots it saw in the
-   way (:mod:`agents.behavior.kick_past`) (a ball going out or out: striker and roles
+   no robot it saw covers (:mod:`agents.behavior.shot_window`), farther out past a robot it saw in
+   the way (:mod:`agents.behavior.kick_past`) (a ball going out or out: striker and roles
    are chosen by the spot the referee will put it back on, and the striker waits behind it,
    :mod:`agents.modelling.ball_out`;
    a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`;
