@@ -28,9 +28,13 @@ STANDING: JointTargets = {
 }
 
 
+_LEGS = {side: (Joint[f"{side}_HIP"], Joint[f"{side}_KNEE"], Joint[f"{side}_ANKLE"]) for side in ("L", "R")}
+
+
 def _lift(side: str, amount: float) -> JointTargets:
     """Raise one foot by flexing hip and knee while keeping the sole level."""
-    return {Joint[f"{side}_HIP"]: -amount, Joint[f"{side}_KNEE"]: 2 * amount, Joint[f"{side}_ANKLE"]: -amount}
+    hip, knee, ankle = _LEGS[side]
+    return {hip: -amount, knee: 2 * amount, ankle: -amount}
 
 
 def walking_targets(t_s: float) -> JointTargets:

@@ -33,6 +33,10 @@ from world.motions import MOTION_SPECS, Displacement, Motion, MotionNoise
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TOTAL_MASS_KG, Joint
 
 
+# Every actuated joint, with the index of its head target (yaw 0, pitch 1) or None for a limb's.
+_JOINT_SLOTS = tuple((joint, {Joint.HEAD_YAW: 0, Joint.HEAD_PITCH: 1}.get(joint)) for joint in ACTUATED_JOINTS)
+
+
 @dataclass(frozen=True)
 class BalanceConfig:
     """Gains and limits of the locomotion controller (SI units)."""
@@ -293,17 +297,17 @@ class LocomotionController:
         head_step = HEAD_SPEED_RADPS * dt_s
         setpoints = self.joint_setpoints
         changed = False
-        for joint in ACTUATED_JOINTS:
-            if joint is Joint.HEAD_YAW:
-                goal, step = self.head_yaw_target, head_step
-            elif joint is Joint.HEAD_PITCH:
-                goal, step = self.head_pitch_target, head_step
-            else:
+        head_goals = (self.head_yaw_target, self.head_pitch_target)
+        for joint, head in _JOINT_SLOTS:
+            if head is None:
                 goal, step = targets.get(joint, 0.0), limb_step
-            current = setpoints.get(joint, goal)
+            else:
+                goal, step = head_goals[head], head_step
+            before = setpoints.get(joint)
+            current = goal if before is None else before
             if current != goal:
                 current = goal if abs(goal - current) <= step else current + math.copysign(step, goal - current)
-            if setpoints.get(joint) != current:
+            if before != current:
                 setpoints[joint] = current
                 changed = True
         if changed or not self._motors_set:

@@ -132,13 +132,14 @@ def bumpers(client: int, body: int, ground_ids: tuple[int, ...]) -> tuple[bool, 
     """Foot bumpers: pressed by a contact on the front half of a foot with anything but the floor."""
     pressed = []
     for foot in FEET:
-        state = pb.getLinkState(body, int(foot), physicsClientId=client)
-        foot_position, foot_orientation = state[4], state[5]
-        m = pb.getMatrixFromQuaternion(foot_orientation)
         left = right = False
-        for contact in pb.getContactPoints(bodyA=body, linkIndexA=int(foot), physicsClientId=client):
-            if contact[2] in ground_ids:
-                continue
+        others = [c for c in pb.getContactPoints(bodyA=body, linkIndexA=int(foot), physicsClientId=client)
+                  if c[2] not in ground_ids]
+        if others:  # where the foot is matters only then
+            state = pb.getLinkState(body, int(foot), physicsClientId=client)
+            foot_position, foot_orientation = state[4], state[5]
+            m = pb.getMatrixFromQuaternion(foot_orientation)
+        for contact in others:
             rel = tuple(c - f for c, f in zip(contact[5], foot_position))
             local = to_torso(m, rel)
             if local[0] > 0.02:

@@ -512,6 +512,11 @@ class World:
             hits = pb.rayTestBatch(starts.tolist(), ends.tolist(), physicsClientId=client)
         rays_per_robot = 4 * len(self.config.sonar.cone_offsets_rad)
         noise = self.config.imu_noise
+        # every robot's white noise in one draw, in the order of single draws: accelerometer, then gyro
+        white = self._imu_rng.normal(0.0, 1.0, (len(ids), 2, 3))
+        white[:, 0] *= noise.accelerometer_noise_sigma_mps2
+        white[:, 1] *= noise.gyro_noise_sigma_radps
+        white = white.tolist()
         readings = {}
         for i, rid in enumerate(ids):
             body = self._bodies[rid]
@@ -524,22 +529,14 @@ class World:
                 head_yaw_rad=yaw,
                 head_pitch_rad=pitch,
                 camera=controller.camera,
-                accelerometer_mps2=self._imu_reading(
-                    to_torso(m, (ax, ay, az + GRAVITY_MPS2)), accelerometer_bias, noise.accelerometer_noise_sigma_mps2
-                ),
-                gyro_radps=self._imu_reading(self._angular_velocities[rid], gyro_bias, noise.gyro_noise_sigma_radps),
+                accelerometer_mps2=_imu_reading(to_torso(m, (ax, ay, az + GRAVITY_MPS2)), accelerometer_bias,
+                                                white[i][0]),
+                gyro_radps=_imu_reading(self._angular_velocities[rid], gyro_bias, white[i][1]),
                 sonar_m=sonar_distances(hits[i * rays_per_robot : (i + 1) * rays_per_robot], self.config.sonar),
                 bumpers=bumpers(client, body, self._ground_ids),
                 motion=controller.status(self.time_s),
             )
         return readings
-
-    def _imu_reading(
-        self, true: tuple[float, float, float], bias: tuple[float, ...], sigma: float
-    ) -> tuple[float, float, float]:
-        """A reading: the true value plus the robot's bias plus white noise (drawn even when zero)."""
-        white = self._imu_rng.normal(0.0, 1.0, 3) * sigma
-        return (true[0] + bias[0] + float(white[0]), true[1] + bias[1] + float(white[1]), true[2] + bias[2] + float(white[2]))
 
     def motion_status(self, robot_id: str) -> MotionStatus:
         return self._controllers[self._check_robot(robot_id)].status(self.time_s)
@@ -596,6 +593,12 @@ class World:
     def _reset_joints(self, body: int) -> None:
         for joint in ACTUATED_JOINTS:
             pb.resetJointState(body, int(joint), STANDING.get(joint, 0.0), 0.0, physicsClientId=self._client)
+
+
+def _imu_reading(true: tuple[float, float, float], bias: tuple[float, ...], white: list[float]
+                 ) -> tuple[float, float, float]:
+    """A reading: the true value plus the robot's bias plus its white noise (drawn even when zero)."""
+    return (true[0] + bias[0] + white[0], true[1] + bias[1] + white[1], true[2] + bias[2] + white[2])
 
 
 def _shares(robot_ids: list[str], parts: int) -> list[list[str]]:
