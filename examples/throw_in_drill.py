@@ -4,12 +4,13 @@ Each trial is a refereed match (short pauses before the kick-off) between ``--ho
 ``--away`` with ``--players`` per side, cut short. :data:`ROLL_AFTER_S` into the first
 PLAYING, the drill puts the ball at a seeded spot :data:`ROLL_FROM_Y_M` from the middle
 line, anywhere along the field within :data:`ROLL_MAX_X_M` of the middle, rolling at
-:data:`ROLL_MPS` toward the nearer side line, where the players can see it go out, as in a match.
-The referee then does what it does in a match: the ball goes out, and after its wait it is
-put back on the throw-in rule's spot (``throw_in`` event). Nobody touched it, so that spot is
-where it went out; a player that did not see its team touch the ball guesses the other team
-did and expects it 1 m off that, until it is put back (in a match the guess is often right). The trial ends at the first touch
-after that, or ``--seconds`` after the put-back; a match asks for that touch within 10 s.
+:data:`ROLL_MPS` toward the nearer side line, where the players can see it go out, as in a
+match. The referee then does what it does in a match: the ball goes out, and after its wait
+it is put back on the throw-in rule's spot (``throw_in`` event). Nobody touched it, so that
+spot is where it went out; a player that did not see its team touch the ball guesses the
+other team did and expects it 1 m off that until it is put back (in a match the guess is
+often right). The trial ends at the first touch after that, or ``--seconds`` after the
+put-back; a match asks for that touch within 10 s.
 
 Outcomes: ``home`` or ``away`` (who touched first), ``none`` (no touch in time), ``in``
 (the ball never went out: a robot stopped it). The output lists every trial, the share of
