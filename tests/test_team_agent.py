@@ -519,6 +519,34 @@ def test_a_striker_beside_a_throw_in_s_ball_steps_to_it_without_turning_to_it() 
     assert motion.is_kick or (motion is Motion.WALK and walk == pytest.approx(skills.push(ball)))
 
 
+def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -> None:
+    """0.35 m from a throw-in's ball on its field side, facing the line: for the first touch the striker
+    walks round to the spot behind the ball (orbiting it from 0.45 m on was slower in the throw-in
+    drill); ten seconds later, in open play, it orbits the ball as before."""
+    from agents.behavior import skills
+    from agents.behavior.aim import restart_aim
+    from agents.team.agent import QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S
+
+    ball_xy, attack = (0.5, 1.6), 1.0
+    pose = Pose2D(0.5, 1.25, math.radians(90.0))
+    ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
+
+    def strike(seconds_since_drop_in: float) -> tuple[float, float, float]:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent._drop_in_at_s = agent.now_s - seconds_since_drop_in
+        motion, walk, _ = agent._strike(pose, ball, None, attack, (0.0, 0.0))
+        assert motion is Motion.WALK
+        return walk
+
+    aim = restart_aim(ball_xy, pose.theta, attack)
+    waypoint = skills.behind_ball(pose, ball_xy, aim.xy, QUICK_GO_BEHIND_BEYOND_M)
+    assert waypoint is not None and skills.behind_ball(pose, ball_xy, aim.xy) is None
+    assert strike(1.0) == skills.walk_to(pose, waypoint)[1]
+    assert strike(QUICK_TOUCH_S + 1.0) != skills.walk_to(pose, waypoint)[1]
+
+
 def test_a_striker_on_the_opponent_side_of_a_throw_in_s_ball_plays_it_back_along_the_line() -> None:
     """The ball put on the throw-in line in the opponent half, the striker 0.85 m from it on the side
     of the opponent goal: it comes at the ball from where it stands and plays it back along the line

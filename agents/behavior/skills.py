@@ -290,9 +290,11 @@ GO_BEHIND_BEYOND_M = 0.45  # ... and the ball is farther than this (nearer: orbi
 PASS_BALL_SIDE_M = 0.4  # walking round the ball, keep this far from it
 
 
-def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float]) -> Pose2D | None:
+def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float, float],
+                beyond_m: float = GO_BEHIND_BEYOND_M) -> Pose2D | None:
     """Where to walk first so as to reach the ball from behind, facing ``aim_xy`` (field frame,
-    m and rad); None when the robot already comes at the ball from behind (or is near it).
+    m and rad); None when the robot already comes at the ball from behind (or is within
+    ``beyond_m`` of it: nearer, it orbits the ball).
 
     A robot on the far side of the ball walks past it at :data:`PASS_BALL_SIDE_M` on its own
     side first, so that it never walks through the ball toward its own goal.
@@ -302,7 +304,7 @@ def behind_ball(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[float,
         return None  # a ball out of the field: no room behind it, go straight to it
     aim = math.atan2(aim_xy[1] - by, aim_xy[0] - bx)
     dx, dy = bx - pose.x, by - pose.y
-    if math.hypot(dx, dy) < GO_BEHIND_BEYOND_M:
+    if math.hypot(dx, dy) < beyond_m:
         return None
     if abs(math.remainder(math.atan2(dy, dx) - aim, math.tau)) < GO_BEHIND_RAD:
         return None

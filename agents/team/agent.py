@@ -138,6 +138,8 @@ QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the to
 QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
 QUICK_STEP_WITHIN_M = 0.5  # ... nearer the ball than this, the touch goes the way the robot faces (clipped) ...
 QUICK_STEP_RAD = math.radians(45.0)  # ... and facing it within this, the robot steps to the ball without turning to it
+QUICK_GO_BEHIND_BEYOND_M = 0.25  # ... else it walks round to the spot behind the ball until this near it (in open
+# play it orbits the ball from skills.GO_BEHIND_BEYOND_M on; the throw-in drill's first touches came 0.5 s sooner)
 LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball (within QUICK_STEP_WITHIN_M) ...
 LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, facing the touch's aim within QUICK_PUSH_RAD,
 # walks on through it (a push): no slowing down, no side-step to a foot, no kick (together about 1.5 s)
@@ -517,7 +519,8 @@ class TeamAgent:
         if quick and near and abs(heading_error) <= QUICK_STEP_RAD:
             motion, walk = self._quick_step(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
             return motion, walk, head
-        waypoint = skills.behind_ball(pose, ball_xy, aim.xy)
+        beyond_m = QUICK_GO_BEHIND_BEYOND_M if quick else skills.GO_BEHIND_BEYOND_M
+        waypoint = skills.behind_ball(pose, ball_xy, aim.xy, beyond_m)
         if waypoint is not None:
             motion, walk = skills.walk_to(pose, waypoint)
             if motion is Motion.STAND:  # at the way round (near enough to it): on to the spot behind the ball
