@@ -32,13 +32,13 @@ from pathlib import Path
 
 import numpy as np
 
-from agents.policies import make_policy, policy_factory
+from agents.policies import make_policy
 from match.events import EventKind
 from match.game import Match, MatchConfig
 from match.protocol import GameState, Side, roster
 from match.referee import RefereeConfig
 from match.runner import run_match
-from scenarios.cli.arguments import int_in
+from scenarios.cli.arguments import int_in, policy_name
 from scenarios.common.io import write_json
 from scenarios.tournament.statistics import wilson_interval
 
@@ -152,8 +152,9 @@ def summarize(trials: list[Trial]) -> dict:
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--home", default="team", help="the home team's policy, attacking +x first (default team)")
-    parser.add_argument("--away", default="team", help="the away team's policy (default team)")
+    parser.add_argument("--home", type=policy_name, default="team",
+                        help="the home team's policy, attacking +x first (default team)")
+    parser.add_argument("--away", type=policy_name, default="team", help="the away team's policy (default team)")
     parser.add_argument("--players", type=int_in(1, 4), default=4, metavar="N", help="players per side, 1-4 (default 4)")
     parser.add_argument("--trials", type=int_in(1, 10_000), default=40, metavar="N", help="trials, 1-10000 (default 40)")
     parser.add_argument("--seed", type=int_in(0, 2**32 - 1 - 10_000), default=0, metavar="N",
@@ -161,13 +162,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--seconds", type=int_in(1, 600), default=20, metavar="S",
                         help="how long after the put-back a trial waits for a touch, 1-600 s (default 20)")
     parser.add_argument("--out", type=Path, default=None, help="write results.json here")
-    args = parser.parse_args(argv)
-    for flag, name in (("--home", args.home), ("--away", args.away)):
-        try:
-            policy_factory(name)
-        except ValueError as error:
-            parser.error(f"{flag}: {error}")
-    return args
+    return parser.parse_args(argv)
 
 
 def main(argv: list[str] | None = None) -> int:
