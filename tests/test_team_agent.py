@@ -716,3 +716,48 @@ def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does
         packets[motion] = decode(bytes(radio))
     assert packets[Motion.STAND_UP_FROM_BACK].fallen
     assert not packets[Motion.WALK].fallen
+
+
+class _KickOffWatch:
+    """Watches a refereed match from its kick-off (ground truth, evaluation only): how far the away
+    (defending) team's players 2 and 3 have gone from where PLAYING found them, at the home team's
+    first touch and :data:`AFTER_S` into PLAYING."""
+
+    AFTER_S = 8.0
+
+    def __init__(self) -> None:
+        self.start: dict[str, Pose2D] = {}
+        self.at_touch: dict[str, float] | None = None
+        self.at_end: dict[str, float] = {}
+        self.touch_s: float | None = None
+
+    def _moved(self, match) -> dict[str, float]:
+        return {robot: math.hypot(match.world.robot_pose(robot).x - pose.x, match.world.robot_pose(robot).y - pose.y)
+                for robot, pose in self.start.items()}
+
+    def decided(self, match, actions) -> None:
+        if match.state is not GameState.PLAYING:
+            return
+        if not self.start:
+            self.start = {robot: match.world.robot_pose(robot) for robot in ("away_2", "away_3")}
+            self.start_s = match.world.time_s
+        if self.at_touch is None and any(e.kind.value == "touch" for e in match.events):
+            self.at_touch, self.touch_s = self._moved(match), match.world.time_s - self.start_s
+        self.at_end = self._moved(match)
+
+    def done(self, match) -> bool:
+        return bool(self.start) and match.world.time_s - self.start_s >= self.AFTER_S
+
+
+def test_at_the_other_team_s_kick_off_its_defender_and_supporter_hold_their_places_until_the_ball_is_played() -> None:
+    """Walking up from their kick-off places at once, the defending team's defender and supporter crossed
+    the lane of the kick past their striker a second later, and their legs turned the ball into their
+    own goal: they now stand until the ball is played and a little after, then play on."""
+    from match.referee import RefereeConfig
+
+    config = MatchConfig(referee=RefereeConfig(initial_seconds=0.2, ready_seconds=0.4, set_seconds=0.2))
+    watch = _KickOffWatch()
+    run_match(config, {str(a): make_policy("team") for a in config.agents}, seed=3, progress=False, observer=watch)
+    assert watch.at_touch is not None and watch.touch_s > 0.5, "the home striker kicks off after a moment"
+    assert max(watch.at_touch.values()) < 0.02, watch.at_touch
+    assert max(watch.at_end.values()) > 0.2, watch.at_end

@@ -145,6 +145,9 @@ LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, fac
 # walks on through it (a push): no slowing down, no side-step to a foot, no kick (together about 1.5 s)
 LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
 SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
+KICKOFF_FREE_S = 10.0  # the other team's kick-off: the ball is free this long after PLAYING began at most (rules) ...
+KICKOFF_PLAYED_M = 0.5  # ... or once believed this far from the centre spot; until then, and ...
+KICKOFF_LANE_S = 2.0  # ... this long after, the defender and the supporter hold their places, out of the kick's lane
 
 
 class TeamAgent:
@@ -205,6 +208,7 @@ class TeamAgent:
         self._lining_up_s = -math.inf  # when it last lined up a kick with the ball at its feet (own clock)
         self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
         self._own_touch_s = -math.inf  # when it or a teammate last meant to kick or push the ball (own clock)
+        self._kickoff_played_s = math.inf  # when the ball of the last kick-off was first believed played (own clock)
 
     @property
     def now_s(self) -> float:
@@ -311,6 +315,7 @@ class TeamAgent:
         throw-in, forgets the balls seen before it (:meth:`_throw_in`)."""
         if obs.game.state is not self._state:
             self._state_since_s = self.now_s
+            self._kickoff_played_s = math.inf
         since = obs.game.seconds_since_drop_in
         if since < self._drop_in_since_s:  # the count started again: a new throw-in
             self._throw_in(obs, since)
@@ -393,6 +398,7 @@ class TeamAgent:
             elif ball_field is not None:
                 play_xy = (ball_field.x, ball_field.y)
             self.role = self._assign_role(pose, play_xy, obs)
+        holds_lane = self._holds_kickoff_lane(obs, ball_field)
         if self.role is Role.NONE:
             self.intention = Intention.NONE
             return Motion.STAND, skills.STILL, head
@@ -401,9 +407,24 @@ class TeamAgent:
         if self.role is Role.GOALKEEPER and self._keeper_clears(ball_rel, pose, attack):
             return self._strike(pose, ball_rel, ball_field, attack, head)
         self.intention = Intention.POSITION
+        if holds_lane:
+            return Motion.STAND, skills.STILL, head
         target = role_position(self.role, play_xy, attack)
         motion, walk = skills.walk_to(pose, target)
         return motion, walk, head
+
+    def _holds_kickoff_lane(self, obs: Observation, ball: BallEstimate | None) -> bool:
+        """Whether this defender or supporter holds its place at the other team's kick-off: until the ball
+        is believed played (:data:`KICKOFF_PLAYED_M` from the centre spot) and :data:`KICKOFF_LANE_S` after,
+        within :data:`KICKOFF_FREE_S` of the kick-off. Walking up from its kick-off place at once, it crossed
+        the lane of the kick past the striker, 1.5 m away a second later, and its legs turned the ball
+        toward its own goal."""
+        if ball is not None and math.hypot(ball.x, ball.y) >= KICKOFF_PLAYED_M:
+            self._kickoff_played_s = min(self._kickoff_played_s, self.now_s)
+        if obs.game.kickoff is not KickOff.OPPONENT or self.role not in (Role.DEFENDER, Role.SUPPORTER):
+            return False
+        return (self.now_s - self._state_since_s < KICKOFF_FREE_S
+                and self.now_s - self._kickoff_played_s < KICKOFF_LANE_S)
 
     def _own_ball(self) -> BallEstimate | None:
         rel = self.ball.relative()
