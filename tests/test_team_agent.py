@@ -520,15 +520,16 @@ def test_a_striker_beside_a_throw_in_s_ball_steps_to_it_without_turning_to_it() 
 
 
 def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -> None:
-    """0.35 m from a throw-in's ball on its field side, facing the line: for the first touch the striker
-    walks round to the spot behind the ball (orbiting it from 0.45 m on was slower in the throw-in
-    drill); ten seconds later, in open play, it orbits the ball as before."""
+    """0.36 m from a throw-in's ball in its own half, on its field side toward the opponent goal, coming
+    at it obliquely and facing away from the line (no tap along the line): for the first touch the
+    striker walks round the ball to the spot behind it (orbiting it from 0.45 m on was slower in the
+    throw-in drill); ten seconds later, in open play, it orbits the ball as before."""
     from agents.behavior import skills
     from agents.behavior.aim import restart_aim
     from agents.team.agent import QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S
 
-    ball_xy, attack = (0.5, 1.6), 1.0
-    pose = Pose2D(0.5, 1.25, math.radians(90.0))
+    ball_xy, attack = (-0.5, 1.6), 1.0
+    pose = Pose2D(-0.2, 1.4, math.radians(150.0))
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
 
     def strike(seconds_since_drop_in: float) -> tuple[float, float, float]:
@@ -568,7 +569,7 @@ def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_
     """Coming at a throw-in's ball along the first touch's aim, 0.25 m from it: five seconds after the
     throw-in the striker walks on through the ball at full speed; a second after it, it slows down and
     side-steps the ball to a foot for a kick, as in open play. Facing the side line instead, it never
-    pushes the ball out."""
+    pushes the ball out: it steps to the ball's side, for a tap along the line."""
     from agents.behavior.skills import PUSH_MPS
     from agents.team.agent import LATE_TOUCH_AFTER_S
 
@@ -590,7 +591,7 @@ def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_
     assert motion is Motion.WALK and walk[0] < PUSH_MPS and walk[1] != 0.0
     toward_line = Pose2D(ball_xy[0], ball_xy[1] - 0.25, math.pi / 2)
     motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, toward_line)
-    assert not (motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0)  # round the ball, not through it
+    assert motion is Motion.WALK and walk[0] < 0.1 and abs(walk[1]) > 0.05  # beside the ball (a tap), not through it
 
 
 def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() -> None:
@@ -761,3 +762,49 @@ def test_at_the_other_team_s_kick_off_its_defender_and_supporter_hold_their_plac
     assert watch.at_touch is not None and watch.touch_s > 0.5, "the home striker kicks off after a moment"
     assert max(watch.at_touch.values()) < 0.02, watch.at_touch
     assert max(watch.at_end.values()) > 0.2, watch.at_end
+
+
+@pytest.mark.parametrize("attack", [1.0, -1.0])
+def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_line(attack: float) -> None:
+    """A striker that comes at a throw-in's ball from the field, about square to the side line, does not
+    walk round it: it walks to the spot where it faces the line with the ball beside a foot, and side-steps
+    into the ball, tapping it along the line, toward the opponent goal in its own half."""
+    from agents.behavior import skills
+    from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
+
+    ball_xy = (-1.0 * attack, 1.6)  # in the robot's own half
+    tap_to = attack  # along the line toward the opponent goal
+
+    def strike(pose: Pose2D, ball_rel: tuple[float, float]) -> tuple[TeamAgent, tuple[float, float, float]]:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent._drop_in_at_s = agent.now_s - 2.0
+        motion, walk, _ = agent._strike(pose, BallEstimate(*ball_rel, 0.0, 0.0, 0.02, 0.0), None, attack, (0.0, 0.0))
+        assert motion is Motion.WALK
+        return agent, walk
+
+    far = Pose2D(ball_xy[0] - 0.2 * attack, 0.8, math.radians(90.0))
+    _, walk = strike(far, _to_robot(far, ball_xy))
+    spot = Pose2D(ball_xy[0] - tap_to * SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.radians(90.0))
+    assert walk == skills.walk_to(far, spot)[1]  # to the tap's spot, not round the ball
+
+    facing_the_line = Pose2D(ball_xy[0] - tap_to * SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.radians(90.0))
+    beside = _to_robot(facing_the_line, ball_xy)  # the ball ahead and to the side the tap goes
+    assert beside == pytest.approx((SIDE_TAP_FORWARD_M, -tap_to * SIDE_TAP_SIDE_M))
+    agent, walk = strike(facing_the_line, beside)
+    assert walk[0] == pytest.approx(0.0, abs=0.02) and walk[1] == pytest.approx(-tap_to * skills.WALK_HIGH[1])
+    c, s = math.cos(facing_the_line.theta), math.sin(facing_the_line.theta)
+    field_step = (c * walk[0] - s * walk[1], s * walk[0] + c * walk[1])
+    assert field_step[0] * attack > 0.0 and abs(field_step[1]) < 0.02  # along the line, toward the opponent goal
+
+
+def test_a_striker_coming_along_the_line_to_a_throw_in_s_ball_does_not_tap_it_sideways() -> None:
+    """Beside the ball on the throw-in line, facing along it: no tap (it steps to the ball as before)."""
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    agent.step = 1000
+    agent._drop_in_at_s = agent.now_s - 2.0
+    pose, ball_xy = Pose2D(-1.5, 1.6, 0.0), (-1.1, 1.6)
+    ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
+    assert agent._side_tap(pose, ball, ball_xy, 1.0) is None

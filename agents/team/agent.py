@@ -143,6 +143,19 @@ QUICK_GO_BEHIND_BEYOND_M = 0.25  # ... else it walks round to the spot behind th
 LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball (within QUICK_STEP_WITHIN_M) ...
 LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, facing the touch's aim within QUICK_PUSH_RAD,
 # walks on through it (a push): no slowing down, no side-step to a foot, no kick (together about 1.5 s)
+SIDE_TAP_APPROACH_RAD = math.radians(50.0)  # a striker on the field side of a throw-in's ball, coming at it within
+# this of square to the line or facing the line within this, taps it along the line: it stands facing the line
+# with the ball beside a foot
+SIDE_TAP_FORWARD_M = 0.07  # ... this far ahead ...
+SIDE_TAP_SIDE_M = 0.16  # ... and this far to the side the tap goes, and side-steps into it
+SIDE_TAP_WITHIN_M = 0.04  # ... once the ball lies this near that spot (and the robot faces the line within
+SIDE_TAP_FACE_RAD = math.radians(20.0)  # this), ...
+SIDE_TAP_KEEP_S = 0.5  # ... and keeps side-stepping while it did so this recently
+SIDE_TAP_NEAR_M = 0.5  # the ball this near: the spot is reached by the ball's sighting, not the pose estimate, ...
+SIDE_TAP_LINED_UP_M = 0.06  # ... sideways first, the ball kept this far ahead (clear of the feet) until it lies
+SIDE_TAP_CLEAR_M = 0.22  # ... within this of its place to the side
+SIDE_TAP_TOUCH_M = 0.12  # the ball this near the robot's centre line, sideways: the tap touched it
+SIDE_TAP_GAIN_PER_S = 1.5
 LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
 SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
 KICKOFF_FREE_S = 10.0  # the other team's kick-off: the ball is free this long after PLAYING began at most (rules) ...
@@ -209,6 +222,8 @@ class TeamAgent:
         self._ball_in_s = 0.0  # when it last believed the ball in the field (or believed no ball; own clock)
         self._own_touch_s = -math.inf  # when it or a teammate last meant to kick or push the ball (own clock)
         self._kickoff_played_s = math.inf  # when the ball of the last kick-off was first believed played (own clock)
+        self._side_tap_s = -math.inf  # when it last side-stepped into a throw-in's ball (own clock)
+        self._side_tap_for_s = -math.inf  # the throw-in (its _drop_in_at_s) whose first touch it chose to tap
 
     @property
     def now_s(self) -> float:
@@ -537,7 +552,12 @@ class TeamAgent:
             self.intention = Intention.KICK  # a stalled ball (agents.behavior.stall): walk on through it
             return Motion.WALK, skills.push(ball_rel), head
         heading_error = _heading_error(pose, ball_xy, aim.xy)
-        if quick and near and abs(heading_error) <= QUICK_STEP_RAD:
+        steps = quick and near and abs(heading_error) <= QUICK_STEP_RAD
+        if quick and not steps:
+            tap = self._side_tap(pose, ball_rel, ball_xy, attack)
+            if tap is not None:
+                return Motion.WALK, tap, head
+        if steps:
             motion, walk = self._quick_step(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
             return motion, walk, head
         beyond_m = QUICK_GO_BEHIND_BEYOND_M if quick else skills.GO_BEHIND_BEYOND_M
@@ -567,6 +587,46 @@ class TeamAgent:
             return False  # its first touch is taken
         line_y = FIELD.half_width - THROW_IN_INSET_M
         return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
+
+    def _side_tap(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
+                  attack: float) -> tuple[float, float, float] | None:
+        """A throw-in's first touch for a striker that comes at the ball from the field, about square to the
+        side line (:data:`SIDE_TAP_APPROACH_RAD`): it stands facing the line with the ball beside a foot
+        and side-steps into it, tapping it along the line (toward the opponent goal in the own half, else
+        away from the robot's side), where walking round the ball to play it along the line took seconds.
+        None when the robot comes at the ball otherwise."""
+        side = 1.0 if ball_xy[1] >= 0.0 else -1.0
+        tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
+        if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
+            inside = side * (ball_xy[1] - pose.y)
+            square = math.atan2(abs(ball_xy[0] - pose.x), inside) <= SIDE_TAP_APPROACH_RAD
+            facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= SIDE_TAP_APPROACH_RAD
+            if inside < SIDE_TAP_FORWARD_M / 2 or not (square or facing):
+                return None
+            self._side_tap_for_s = self._drop_in_at_s
+        if attack * ball_xy[0] < 0.0 or abs(ball_xy[0] - pose.x) < 1e-6:
+            along = attack
+        else:
+            along = math.copysign(1.0, ball_xy[0] - pose.x)
+        face = side * math.pi / 2
+        left_of_face = -along * side  # +1: the tap goes to the robot's left when it faces the line
+        face_error = math.remainder(face - pose.theta, math.tau)
+        ball_side = left_of_face * SIDE_TAP_SIDE_M
+        if tapping or (abs(ball_rel.x - SIDE_TAP_FORWARD_M) < SIDE_TAP_WITHIN_M
+                       and abs(ball_rel.y - ball_side) < SIDE_TAP_WITHIN_M and abs(face_error) < SIDE_TAP_FACE_RAD):
+            self._side_tap_s = self.now_s
+            self.intention = Intention.KICK
+            if abs(ball_rel.y) < SIDE_TAP_TOUCH_M and self._first_touch_s < self._drop_in_at_s:
+                self._first_touch_s = self.now_s
+            return skills.walk_command(SIDE_TAP_GAIN_PER_S * (ball_rel.x - SIDE_TAP_FORWARD_M),
+                                       left_of_face * skills.WALK_HIGH[1], skills.TURN_GAIN_PER_S * face_error)
+        if ball_rel.distance_m < SIDE_TAP_NEAR_M:  # beside the ball first, then up to it: never walk into it
+            lined_up = abs(ball_rel.y - ball_side) < SIDE_TAP_LINED_UP_M
+            forward = SIDE_TAP_FORWARD_M if lined_up else max(SIDE_TAP_FORWARD_M, SIDE_TAP_CLEAR_M)
+            return skills.walk_command(SIDE_TAP_GAIN_PER_S * (ball_rel.x - forward),
+                                       SIDE_TAP_GAIN_PER_S * (ball_rel.y - ball_side), skills.TURN_GAIN_PER_S * face_error)
+        spot = Pose2D(ball_xy[0] - along * SIDE_TAP_SIDE_M, ball_xy[1] - side * SIDE_TAP_FORWARD_M, face)
+        return skills.walk_to(pose, spot)[1]
 
     def _quick_step(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
                     goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float,
