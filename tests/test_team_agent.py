@@ -799,12 +799,16 @@ def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_
     assert field_step[0] * attack > 0.0 and abs(field_step[1]) < 0.02  # along the line, toward the opponent goal
 
 
-def test_a_striker_coming_along_the_line_to_a_throw_in_s_ball_does_not_tap_it_sideways() -> None:
-    """Beside the ball on the throw-in line, facing along it: no tap (it steps to the ball as before)."""
+@pytest.mark.parametrize("pose", [Pose2D(-1.5, 1.6, 0.0), Pose2D(-0.8, 0.8, math.radians(135.0))])
+def test_no_side_tap_along_the_line_or_from_past_the_ball(pose: Pose2D) -> None:
+    """Beside the ball on the throw-in line, facing along it, the striker steps to the ball as before;
+    on the field side but past the ball toward the opponent goal, in its own half, it does not tap
+    (its place for the tap is on the ball's far side: a robot at a corner's spot once walked round the
+    ball to it for 14 s)."""
     agent = TeamAgent()
     agent.reset("home_2", 0)
     agent.step = 1000
     agent._drop_in_at_s = agent.now_s - 2.0
-    pose, ball_xy = Pose2D(-1.5, 1.6, 0.0), (-1.1, 1.6)
+    ball_xy = (-1.1, 1.6)
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
     assert agent._side_tap(pose, ball, ball_xy, 1.0) is None

@@ -146,6 +146,8 @@ LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, fac
 SIDE_TAP_APPROACH_RAD = math.radians(50.0)  # a striker on the field side of a throw-in's ball, coming at it within
 # this of square to the line or facing the line within this, taps it along the line: it stands facing the line
 # with the ball beside a foot
+SIDE_TAP_BEYOND_M = 0.1  # ... unless it stands farther than this past the ball the way the tap goes (in its own
+# half, toward the opponent goal): it would walk round the ball to its place
 SIDE_TAP_FORWARD_M = 0.07  # ... this far ahead ...
 SIDE_TAP_SIDE_M = 0.16  # ... and this far to the side the tap goes, and side-steps into it
 SIDE_TAP_WITHIN_M = 0.04  # ... once the ball lies this near that spot (and the robot faces the line within
@@ -590,24 +592,26 @@ class TeamAgent:
 
     def _side_tap(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
                   attack: float) -> tuple[float, float, float] | None:
-        """A throw-in's first touch for a striker that comes at the ball from the field, about square to the
-        side line (:data:`SIDE_TAP_APPROACH_RAD`): it stands facing the line with the ball beside a foot
-        and side-steps into it, tapping it along the line (toward the opponent goal in the own half, else
-        away from the robot's side), where walking round the ball to play it along the line took seconds.
-        None when the robot comes at the ball otherwise."""
+        """A throw-in's first touch for a striker on the field side of the ball that comes at it about square
+        to the side line or faces the line (:data:`SIDE_TAP_APPROACH_RAD`): it stands facing the line with
+        the ball beside a foot and side-steps into it, tapping it along the line (toward the opponent goal
+        in the own half, else away from the robot's side), where walking round the ball to play it along
+        the line took seconds. None when the robot comes at the ball otherwise, or stands past it the way
+        the tap goes (:data:`SIDE_TAP_BEYOND_M`); chosen once per throw-in."""
         side = 1.0 if ball_xy[1] >= 0.0 else -1.0
         tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
-        if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
-            inside = side * (ball_xy[1] - pose.y)
-            square = math.atan2(abs(ball_xy[0] - pose.x), inside) <= SIDE_TAP_APPROACH_RAD
-            facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= SIDE_TAP_APPROACH_RAD
-            if inside < SIDE_TAP_FORWARD_M / 2 or not (square or facing):
-                return None
-            self._side_tap_for_s = self._drop_in_at_s
         if attack * ball_xy[0] < 0.0 or abs(ball_xy[0] - pose.x) < 1e-6:
             along = attack
         else:
             along = math.copysign(1.0, ball_xy[0] - pose.x)
+        if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
+            inside = side * (ball_xy[1] - pose.y)
+            square = math.atan2(abs(ball_xy[0] - pose.x), inside) <= SIDE_TAP_APPROACH_RAD
+            facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= SIDE_TAP_APPROACH_RAD
+            beyond = along * (pose.x - ball_xy[0])  # how far the robot is past the ball the way the tap goes
+            if inside < SIDE_TAP_FORWARD_M / 2 or not (square or facing) or beyond > SIDE_TAP_BEYOND_M:
+                return None
+            self._side_tap_for_s = self._drop_in_at_s
         face = side * math.pi / 2
         left_of_face = -along * side  # +1: the tap goes to the robot's left when it faces the line
         face_error = math.remainder(face - pose.theta, math.tau)
