@@ -628,7 +628,8 @@ class TeamAgent:
             lined_up = abs(ball_rel.y - ball_side) < SIDE_TAP_LINED_UP_M
             forward = SIDE_TAP_FORWARD_M if lined_up else max(SIDE_TAP_FORWARD_M, SIDE_TAP_CLEAR_M)
             return skills.walk_command(SIDE_TAP_GAIN_PER_S * (ball_rel.x - forward),
-                                       SIDE_TAP_GAIN_PER_S * (ball_rel.y - ball_side), skills.TURN_GAIN_PER_S * face_error)
+                                       SIDE_TAP_GAIN_PER_S * (ball_rel.y - ball_side),
+                                       skills.TURN_GAIN_PER_S * face_error)
         spot = Pose2D(ball_xy[0] - along * SIDE_TAP_SIDE_M, ball_xy[1] - side * SIDE_TAP_FORWARD_M, face)
         return skills.walk_to(pose, spot)[1]
 
