@@ -728,6 +728,7 @@ class _KickOffWatch:
 
     def __init__(self) -> None:
         self.start: dict[str, Pose2D] = {}
+        self.start_s = 0.0
         self.at_touch: dict[str, float] | None = None
         self.at_end: dict[str, float] = {}
         self.touch_s: float | None = None
