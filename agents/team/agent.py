@@ -626,7 +626,7 @@ class TeamAgent:
                                        left_of_face * skills.WALK_HIGH[1], skills.TURN_GAIN_PER_S * face_error)
         if ball_rel.distance_m < SIDE_TAP_NEAR_M:  # beside the ball first, then up to it: never walk into it
             lined_up = abs(ball_rel.y - ball_side) < SIDE_TAP_LINED_UP_M
-            forward = SIDE_TAP_FORWARD_M if lined_up else max(SIDE_TAP_FORWARD_M, SIDE_TAP_CLEAR_M)
+            forward = SIDE_TAP_FORWARD_M if lined_up else SIDE_TAP_CLEAR_M
             return skills.walk_command(SIDE_TAP_GAIN_PER_S * (ball_rel.x - forward),
                                        SIDE_TAP_GAIN_PER_S * (ball_rel.y - ball_side),
                                        skills.TURN_GAIN_PER_S * face_error)
