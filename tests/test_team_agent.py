@@ -15,6 +15,7 @@ from match.free_play import FreePlay
 from match.game import MatchConfig
 from match.protocol import (
     CameraChoice,
+    Displacement,
     GameState,
     GoalColor,
     Motion,
@@ -62,6 +63,23 @@ def test_random_observations_black_images_and_no_camera_never_break_it() -> None
         action = agent.act(_observation(seed, **changes))
         assert set(action) >= {"motion", "head", "camera"}
         assert all(math.isfinite(v) for v in agent.pose_estimate())
+
+
+@pytest.mark.parametrize("head_yaw, forgets", [(0.0, True), (1.5, False)])
+def test_a_believed_ball_that_frames_in_clear_view_do_not_show_is_forgotten(head_yaw: float, forgets: bool) -> None:
+    agent = TeamAgent()
+    agent.reset("home_1", 3)
+    black = np.zeros((120, 160, 3), np.uint8)
+    obs = _observation(0, image=black, camera=int(CameraChoice.TOP), head=(head_yaw, 0.49),
+                       sonar=np.full(4, 2.5, np.float32), gyro=np.zeros(3, np.float32))
+    agent.act(obs)
+    for _ in range(25):  # a ball lying 0.9 m ahead, seen for a second
+        agent.ball.predict(0.04, Displacement(0.0, 0.0, 0.0))
+        agent.ball.measure(0.9, 0.0)
+    for _ in range(12):  # six frames, none with the ball
+        agent.act(obs)
+    assert agent.ball.known is not forgets
+    assert agent.ball_absence.forgotten == int(forgets)
 
 
 @pytest.mark.render

@@ -7,7 +7,9 @@ import math
 import pytest
 
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.modelling.ball_absence import MISS_WINDOW_S, MISSES_TO_FORGET, BallAbsence, in_clear_view
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate, BallModel
+from agents.modelling.obstacle_model import Obstacle, ObstacleKind
 from agents.localization.estimate import EstimateSource, PoseEstimate
 from agents.modelling.self_locator import DOUBT_SIGMA_M, JUMP_CONFIRMATIONS, SelfLocator
 from agents.modelling.team_model import MESSAGE_TIMEOUT_S, TeamModel
@@ -15,6 +17,7 @@ from agents.team.agent import _arc
 from agents.team.messages import Role, TeamMessage
 from agents.vision.percepts import LandmarkPercept
 from match.protocol import Displacement, GoalColor, Pose2D
+from world.camera_model import CameraPosition
 from world.field import FIELD, LandmarkId, LandmarkKind
 
 STILL = Displacement(0.0, 0.0, 0.0)
@@ -53,6 +56,43 @@ def test_ball_model_restarts_after_the_ball_jumped() -> None:
     model.predict(0.04, STILL)
     model.measure(2.5, 1.0)
     assert model.relative().distance_m == pytest.approx(2.5, abs=0.01)
+
+
+LOOKING_DOWN_RAD = 0.49  # head pitch at which the top camera centres a ball 0.9 m ahead
+
+
+def test_a_ball_is_in_clear_view_only_near_in_the_image_and_unhidden() -> None:
+    ahead = BallEstimate(0.9, 0.0, 0.0, 0.0, 0.05, 0.5)
+    assert in_clear_view(ahead, 0.0, LOOKING_DOWN_RAD, CameraPosition.TOP, ())
+    assert not in_clear_view(ahead, 0.6, LOOKING_DOWN_RAD, CameraPosition.TOP, ())  # the head looks left of it
+    assert not in_clear_view(ahead, 0.0, 0.0, CameraPosition.TOP, ())  # it is below the image
+    assert not in_clear_view(BallEstimate(-0.9, 0.0, 0.0, 0.0, 0.05, 0.5), 0.0, LOOKING_DOWN_RAD,
+                             CameraPosition.TOP, ())  # behind the robot
+    assert not in_clear_view(BallEstimate(0.9, 0.0, 0.0, 0.0, 0.4, 0.5), 0.0, LOOKING_DOWN_RAD,
+                             CameraPosition.TOP, ())  # too unsure where it is
+    far = BallEstimate(3.0, 0.0, 0.0, 0.0, 0.05, 0.5)
+    assert not in_clear_view(far, 0.0, 0.1, CameraPosition.TOP, ())
+    in_front = Obstacle(0.5, 0.03, ObstacleKind.OPPONENT, 0.0)
+    assert not in_clear_view(ahead, 0.0, LOOKING_DOWN_RAD, CameraPosition.TOP, (in_front,))
+    beside = Obstacle(0.5, 0.4, ObstacleKind.OPPONENT, 0.0)
+    assert in_clear_view(ahead, 0.0, LOOKING_DOWN_RAD, CameraPosition.TOP, (beside,))
+    at_the_feet = BallEstimate(0.18, 0.0, 0.0, 0.0, 0.05, 0.5)
+    assert in_clear_view(at_the_feet, 0.0, 0.5, CameraPosition.BOTTOM, ())
+    by_the_legs = BallEstimate(0.14, 0.14, 0.0, 0.0, 0.05, 0.5)  # 45 degrees left: a leg may hide it
+    assert not in_clear_view(by_the_legs, math.pi / 4, 0.5, CameraPosition.BOTTOM, ())
+
+
+def test_a_ball_missed_in_clear_view_is_forgotten_after_a_few_frames() -> None:
+    absence = BallAbsence()
+    frames = [absence.frame(0.08 * k, seen=False, expected=k % 2 == 0) for k in range(2 * MISSES_TO_FORGET)]
+    assert frames.index(True) == 2 * MISSES_TO_FORGET - 2  # frames that could not show it do not clear the count
+    assert absence.forgotten == 1
+    absence = BallAbsence()
+    for k in range(3 * MISSES_TO_FORGET):  # a sighting among the misses clears them
+        assert not absence.frame(0.08 * k, seen=k % MISSES_TO_FORGET == 0, expected=True)
+    absence = BallAbsence()
+    spread = MISS_WINDOW_S * 1.01  # misses farther apart than the window never add up
+    assert not any(absence.frame(spread * k, seen=False, expected=True) for k in range(3 * MISSES_TO_FORGET))
 
 
 def test_walk_arcs_compose_to_the_same_displacement() -> None:

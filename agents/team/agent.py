@@ -59,6 +59,7 @@ from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
 from agents.behavior.unjam import Unjammer
+from agents.modelling.ball_absence import BallAbsence, in_clear_view
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, expected_spot, leaving_point, out_of_field
 from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
@@ -181,6 +182,7 @@ class TeamAgent:
         self.player = AgentId.parse(agent_id).player
         self.locator = SelfLocator(self.method, seed)
         self.ball = BallModel()
+        self.ball_absence = BallAbsence()
         self.obstacles = ObstacleModel()
         self.unjam = Unjammer(DT_S)
         self.stall = StallWatch()
@@ -321,8 +323,14 @@ class TeamAgent:
                 self._own_goal_ahead_s = self.now_s
         mask = result.segmented == int(ColorClass.ORANGE)
         ball = ball_in_mask(mask, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
-        if ball is not None and plausible(ball):
+        seen = ball is not None and plausible(ball)
+        if seen:
             self.ball.measure(ball.distance_m, ball.bearing_rad)
+        believed = None if seen or obs.fallen else self._own_ball()
+        expected = believed is not None and in_clear_view(
+            believed, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera, self.obstacles.obstacles())
+        if self.ball_absence.frame(self.now_s, seen, expected):
+            self.ball.reset()
         self.obstacles.see(find_robots(result.segmented, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera,
                                        obs.game.team_color))
 

@@ -159,6 +159,21 @@ def ground_point(
     return math.atan2(y, x), distance
 
 
+def ground_pixel(
+    bearing_rad: float, distance_m: float, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition,
+    height_m: float,
+) -> tuple[float, float] | None:
+    """The pixel (u, v) where the point ``height_m`` above the ground at (bearing rad, ground
+    distance m) in the torso frame appears, or None when it lies behind the camera (the
+    inverse of :func:`ground_point`; it may fall outside the image)."""
+    rotation, position = torso_camera_pose(NAO_HEAD, head_yaw_rad, head_pitch_rad, camera)
+    point = np.array([distance_m * math.cos(bearing_rad), distance_m * math.sin(bearing_rad), height_m])
+    pixel = NAO_CAMERA.project((point - position) @ rotation)[0]
+    if not np.isfinite(pixel).all():
+        return None
+    return float(pixel[0]), float(pixel[1])
+
+
 def find_ball(
     image: np.ndarray,
     head_yaw_rad: float,
