@@ -20,7 +20,7 @@ import numpy as np
 from agents.vision.camera_models import torso_camera_pose
 from agents.vision.colors import ColorClass
 from agents.vision.segmentation import ColorTable, load_thresholds
-from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
+from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition, world_to_camera
 from world.field import FIELD
 
 LOG = logging.getLogger(__name__)
@@ -168,7 +168,7 @@ def ground_pixel(
     inverse of :func:`ground_point`; it may fall outside the image)."""
     rotation, position = torso_camera_pose(NAO_HEAD, head_yaw_rad, head_pitch_rad, camera)
     point = np.array([distance_m * math.cos(bearing_rad), distance_m * math.sin(bearing_rad), height_m])
-    pixel = NAO_CAMERA.project((point - position) @ rotation)[0]
+    pixel = NAO_CAMERA.project(world_to_camera(point, rotation, position))[0]
     if not np.isfinite(pixel).all():
         return None
     return float(pixel[0]), float(pixel[1])
