@@ -831,3 +831,25 @@ def test_no_side_tap_along_the_line_or_from_past_the_ball(pose: Pose2D) -> None:
     ball_xy = (-1.1, 1.6)
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
     assert agent._side_tap(pose, ball, ball_xy, 1.0) is None
+
+
+def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps() -> None:
+    """The tap's way along the line is chosen once, with the tap: a jump of the position estimate that
+    carries the believed ball over the centre line does not turn it round (a striker once side-stepped
+    0.5 m past the ball, to the far side of its tap, while the other team came and touched first)."""
+    from agents.behavior import skills
+    from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
+
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    agent.step = 1000
+    agent._drop_in_at_s = agent.now_s - 2.0
+    pose = Pose2D(0.35, -1.2, math.radians(-100.0))
+    ball_xy = (-0.1, -1.6)  # in the robot's own half, 0.6 m away
+    ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
+    jumped = Pose2D(pose.x + 0.2, pose.y, pose.theta)  # the same sighting puts the ball in the other half
+    chosen = agent._side_tap(jumped, ball, (ball_xy[0] + 0.2, ball_xy[1]), 1.0)
+    assert chosen is not None  # in the other half the tap goes away from the robot: toward the own goal
+    walk = agent._side_tap(pose, ball, ball_xy, 1.0)
+    spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] + SIDE_TAP_FORWARD_M, -math.pi / 2)
+    assert walk == skills.walk_to(pose, spot)[1]  # still the spot on the robot's side of the ball

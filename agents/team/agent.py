@@ -228,6 +228,7 @@ class TeamAgent:
         self._kickoff_played_s = math.inf  # when the ball of the last kick-off was first believed played (own clock)
         self._side_tap_s = -math.inf  # when it last side-stepped into a throw-in's ball (own clock)
         self._side_tap_for_s = -math.inf  # the throw-in (its _drop_in_at_s) whose first touch it chose to tap
+        self._side_tap_along = 1.0  # the way (field x: +1 or -1) that tap goes, chosen with it
 
     @property
     def now_s(self) -> float:
@@ -605,21 +606,24 @@ class TeamAgent:
         the ball beside a foot and side-steps into it, tapping it along the line (toward the opponent goal
         in the own half, else away from the robot's side), where walking round the ball to play it along
         the line took seconds. None when the robot comes at the ball otherwise, or stands past it the way
-        the tap goes (:data:`SIDE_TAP_BEYOND_M`); chosen once per throw-in."""
+        the tap goes (:data:`SIDE_TAP_BEYOND_M`). Chosen once per throw-in, the way included, from the ball's
+        sighting and the robot's heading: a jump of the position estimate that carries the ball over the
+        centre line must not turn the tap round (a striker once side-stepped 0.5 m past the ball for it)."""
         side = 1.0 if ball_xy[1] >= 0.0 else -1.0
         tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
-        if attack * ball_xy[0] < 0.0 or abs(ball_xy[0] - pose.x) < 1e-6:
-            along = attack
-        else:
-            along = math.copysign(1.0, ball_xy[0] - pose.x)
         if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
-            inside = side * (ball_xy[1] - pose.y)
-            square = math.atan2(abs(ball_xy[0] - pose.x), inside) <= SIDE_TAP_APPROACH_RAD
+            c, s = math.cos(pose.theta), math.sin(pose.theta)  # the ball from the robot by its sighting (field axes)
+            dx, dy = c * ball_rel.x - s * ball_rel.y, s * ball_rel.x + c * ball_rel.y
+            along = attack if attack * ball_xy[0] < 0.0 or abs(dx) < 1e-6 else math.copysign(1.0, dx)
+            inside = side * dy
+            square = math.atan2(abs(dx), inside) <= SIDE_TAP_APPROACH_RAD
             facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= SIDE_TAP_APPROACH_RAD
-            beyond = along * (pose.x - ball_xy[0])  # how far the robot is past the ball the way the tap goes
+            beyond = -along * dx  # how far the robot is past the ball the way the tap goes
             if inside < SIDE_TAP_FORWARD_M / 2 or not (square or facing) or beyond > SIDE_TAP_BEYOND_M:
                 return None
             self._side_tap_for_s = self._drop_in_at_s
+            self._side_tap_along = along
+        along = self._side_tap_along
         face = side * math.pi / 2
         left_of_face = -along * side  # +1: the tap goes to the robot's left when it faces the line
         face_error = math.remainder(face - pose.theta, math.tau)
