@@ -853,3 +853,36 @@ def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps
     walk = agent._side_tap(pose, ball, ball_xy, 1.0)
     spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] + SIDE_TAP_FORWARD_M, -math.pi / 2)
     assert walk == skills.walk_to(pose, spot)[1]  # still the spot on the robot's side of the ball
+
+
+def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_touch_after_ten_seconds() -> None:
+    """Ten seconds after a throw-in the first touch is still played the quick way while the ball lies
+    where the striker first saw it after the put-back (nobody touched it), up to twenty seconds; a ball
+    moved from there is played as in open play."""
+    from agents.behavior import skills
+    from agents.behavior.aim import restart_aim
+    from agents.team.agent import DT_S, QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S, QUICK_UNTOUCHED_S
+
+    ball_xy, attack = (-0.5, 1.6), 1.0
+    pose = Pose2D(-0.2, 1.4, math.radians(150.0))  # as above: the quick touch walks round to behind the ball
+    waypoint = skills.behind_ball(pose, ball_xy, restart_aim(ball_xy, pose.theta, attack).xy, QUICK_GO_BEHIND_BEYOND_M)
+    assert waypoint is not None
+    quick_walk = skills.walk_to(pose, waypoint)[1]
+
+    def strike(seconds_since_drop_in: float, at_xy: tuple[float, float], saw_it: bool) -> tuple[float, float, float]:
+        agent = TeamAgent()
+        agent.reset("home_2", 0)
+        agent.step = 1000
+        agent._drop_in_at_s = agent.now_s - 1.0
+        if saw_it:  # a second after the put-back, at the ball's spot
+            assert agent._strike(pose, BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0), None, attack,
+                                 (0.0, 0.0))[1] == quick_walk
+        agent.step += round((seconds_since_drop_in - 1.0) / DT_S)
+        ball = BallEstimate(*_to_robot(pose, at_xy), 0.0, 0.0, 0.02, 0.0)
+        return agent._strike(pose, ball, None, attack, (0.0, 0.0))[1]
+
+    assert strike(QUICK_TOUCH_S + 1.0, ball_xy, saw_it=True) == quick_walk
+    assert strike(QUICK_TOUCH_S + 1.0, ball_xy, saw_it=False) != quick_walk  # open play
+    moved = (ball_xy[0] + 0.4, ball_xy[1])
+    assert strike(QUICK_TOUCH_S + 1.0, moved, saw_it=True) == strike(QUICK_TOUCH_S + 1.0, moved, saw_it=False)
+    assert strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=True) == strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=False)

@@ -134,6 +134,8 @@ IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved th
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
 DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
 QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the throw-in line, ...
+QUICK_UNTOUCHED_S = 20.0  # ... or up to this long while it still lies where the robot first saw it after the
+QUICK_UNTOUCHED_M = 0.3  # put-back, within this (its field position flickers with the pose estimate by 0.2 m), ...
 QUICK_TOUCH_BAND_M = 0.3  # ... (this near it) the striker takes the quickest safe first touch (agents.behavior.aim)
 QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick,
 QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
@@ -220,6 +222,7 @@ class TeamAgent:
         self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
         self._first_touch_s = -math.inf  # when it began its first touch after the last throw-in (own clock)
         self._restart_aim_rad: float | None = None  # the direction of that first touch's last aim (field frame)
+        self._put_back_seen_xy: tuple[float, float] | None = None  # where it first saw that ball (field frame)
         self._shot_direction_rad: float | None = None  # the direction its last shot window aimed at (field frame)
         self._past_direction_rad: float | None = None  # the direction it last aimed at to kick past a robot (field frame)
         self._lining_up_s = -math.inf  # when it last lined up a kick with the ball at its feet (own clock)
@@ -377,6 +380,7 @@ class TeamAgent:
             self.ball.reset()
         self._drop_in_spot = None
         self._restart_aim_rad = None
+        self._put_back_seen_xy = None
         if self._last_ball_xy is not None:
             bx, by = self._last_ball_xy
             defended = obs.game.defended_goal
@@ -549,6 +553,8 @@ class TeamAgent:
                 self._lining_up_s = self.now_s
             if shot is not None:
                 aim = goal_aim = Aim(*shot.aim_xy, False)
+        if ball_rel is not None and self._put_back_seen_xy is None and self.now_s - self._drop_in_at_s < QUICK_TOUCH_S:
+            self._put_back_seen_xy = ball_xy
         quick = self._quick_touch(ball_xy)
         near = ball_rel is not None and ball_rel.distance_m < QUICK_STEP_WITHIN_M
         if quick:
@@ -593,11 +599,20 @@ class TeamAgent:
 
     def _quick_touch(self, ball_xy: tuple[float, float]) -> bool:
         """Whether the ball, believed at ``ball_xy``, still waits for a throw-in's first touch: a throw-in
-        less than :data:`QUICK_TOUCH_S` ago, the ball still near the throw-in line."""
+        less than :data:`QUICK_TOUCH_S` ago, or less than :data:`QUICK_UNTOUCHED_S` ago with the ball still
+        where the robot first saw it after the put-back, and the ball still near the throw-in line. (A
+        striker 0.4 m from the ball, lined up for its tap 10 s after the put-back, once turned to play
+        it as in open play instead and touched it 4.5 s later.)"""
         if self._first_touch_s >= self._drop_in_at_s and self.now_s - self._first_touch_s >= QUICK_PUSH_S:
             return False  # its first touch is taken
+        since_s = self.now_s - self._drop_in_at_s
+        if since_s >= QUICK_TOUCH_S:
+            seen = self._put_back_seen_xy
+            untouched = seen is not None and math.dist(seen, ball_xy) <= QUICK_UNTOUCHED_M
+            if since_s >= QUICK_UNTOUCHED_S or not untouched:
+                return False
         line_y = FIELD.half_width - THROW_IN_INSET_M
-        return self.now_s - self._drop_in_at_s < QUICK_TOUCH_S and abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
+        return abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
 
     def _side_tap(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
                   attack: float) -> tuple[float, float, float] | None:
