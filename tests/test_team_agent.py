@@ -836,7 +836,7 @@ def test_no_side_tap_along_the_line_or_from_past_the_ball(pose: Pose2D) -> None:
 def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps() -> None:
     """The tap's way along the line is chosen once, with the tap: a jump of the position estimate that
     carries the believed ball over the centre line does not turn it round (a striker once side-stepped
-    0.5 m past the ball, to the far side of its tap, while the other team came and touched first)."""
+    0.4 m past the ball, to the far side of its tap, while the other team came and touched first)."""
     from agents.behavior import skills
     from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 

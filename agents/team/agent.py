@@ -602,7 +602,7 @@ class TeamAgent:
         less than :data:`QUICK_TOUCH_S` ago, or less than :data:`QUICK_UNTOUCHED_S` ago with the ball still
         where the robot first saw it after the put-back, and the ball still near the throw-in line. (A
         striker 0.4 m from the ball, lined up for its tap 10 s after the put-back, once turned to play
-        it as in open play instead and touched it 4.5 s later.)"""
+        it as in open play instead and touched it 4.6 s later.)"""
         if self._first_touch_s >= self._drop_in_at_s and self.now_s - self._first_touch_s >= QUICK_PUSH_S:
             return False  # its first touch is taken
         since_s = self.now_s - self._drop_in_at_s
@@ -623,7 +623,7 @@ class TeamAgent:
         the line took seconds. None when the robot comes at the ball otherwise, or stands past it the way
         the tap goes (:data:`SIDE_TAP_BEYOND_M`). Chosen once per throw-in, the way included, from the ball's
         sighting and the robot's heading: a jump of the position estimate that carries the ball over the
-        centre line must not turn the tap round (a striker once side-stepped 0.5 m past the ball for it)."""
+        centre line must not turn the tap round (a striker once side-stepped 0.4 m past the ball for it)."""
         side = 1.0 if ball_xy[1] >= 0.0 else -1.0
         tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
         if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
