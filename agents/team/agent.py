@@ -627,8 +627,7 @@ class TeamAgent:
         side = 1.0 if ball_xy[1] >= 0.0 else -1.0
         tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
         if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
-            c, s = math.cos(pose.theta), math.sin(pose.theta)  # the ball from the robot by its sighting (field axes)
-            dx, dy = c * ball_rel.x - s * ball_rel.y, s * ball_rel.x + c * ball_rel.y
+            dx, dy = _in_field(Pose2D(0.0, 0.0, pose.theta), ball_rel)  # the ball from the robot by its sighting
             along = attack if attack * ball_xy[0] < 0.0 or abs(dx) < 1e-6 else math.copysign(1.0, dx)
             inside = side * dy
             square = math.atan2(abs(dx), inside) <= SIDE_TAP_APPROACH_RAD
