@@ -818,19 +818,41 @@ def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_
     assert field_step[0] * attack > 0.0 and abs(field_step[1]) < 0.02  # along the line, toward the opponent goal
 
 
-@pytest.mark.parametrize("pose", [Pose2D(-1.5, 1.6, 0.0), Pose2D(-0.8, 0.8, math.radians(135.0))])
-def test_no_side_tap_along_the_line_or_from_past_the_ball(pose: Pose2D) -> None:
+@pytest.mark.parametrize("pose, ball_xy", [(Pose2D(-1.5, 1.6, 0.0), (-1.1, 1.6)),
+                                           (Pose2D(-1.7, 0.8, math.radians(135.0)), (-2.0, 1.6))])
+def test_no_side_tap_along_the_line_or_from_past_a_ball_near_the_own_goal_line(
+        pose: Pose2D, ball_xy: tuple[float, float]) -> None:
     """Beside the ball on the throw-in line, facing along it, the striker steps to the ball as before;
-    on the field side but past the ball toward the opponent goal, in its own half, it does not tap
-    (its place for the tap is on the ball's far side: a robot at a corner's spot once walked round the
-    ball to it for 14 s)."""
+    on the field side but past the ball toward the opponent goal, in its own half with the ball nearer
+    its own goal line than :data:`BACK_TAP_CLEAR_M` (here a corner's spot, 1 m from it), it does not tap
+    (its place for the tap toward the opponent goal is on the ball's far side: a robot at a corner's spot
+    once walked round the ball to it for 14 s)."""
     agent = TeamAgent()
     agent.reset("home_2", 0)
     agent.step = 1000
     agent._drop_in_at_s = agent.now_s - 2.0
-    ball_xy = (-1.1, 1.6)
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
     assert agent._side_tap(pose, ball, ball_xy, 1.0) is None
+
+
+def test_past_a_ball_far_from_its_own_goal_line_the_striker_taps_it_back_along_the_line() -> None:
+    """On the field side of a throw-in's ball in its own half, past it toward the opponent goal, with the
+    ball 1.9 m from its own goal line, the striker taps it back along the line from where it stands (a
+    robot 1 m from such a ball once walked round it and touched it after 10 s)."""
+    from agents.behavior import skills
+    from agents.team.agent import BACK_TAP_CLEAR_M, SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
+
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    agent.step = 1000
+    agent._drop_in_at_s = agent.now_s - 2.0
+    pose, ball_xy, attack = Pose2D(-0.8, 0.8, math.radians(135.0)), (-1.1, 1.6), 1.0
+    assert FIELD.half_length + attack * ball_xy[0] >= BACK_TAP_CLEAR_M
+    ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
+    walk = agent._side_tap(pose, ball, ball_xy, attack)
+    assert agent._side_tap_along == -attack  # back toward its own goal, away from the robot
+    spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.pi / 2)
+    assert walk == skills.walk_to(pose, spot)[1]  # to the tap's place on its own side of the ball
 
 
 def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps() -> None:
@@ -886,3 +908,23 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
     moved = (ball_xy[0] + 0.4, ball_xy[1])
     assert strike(QUICK_TOUCH_S + 1.0, moved, saw_it=True) == strike(QUICK_TOUCH_S + 1.0, moved, saw_it=False)
     assert strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=True) == strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=False)
+
+
+def test_a_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_not_swept_for() -> None:
+    """A ball last seen a second ago (a glance at a goal took the head away) is looked at where the ball
+    model believes it, with the camera for its distance; a striker once swept its head instead, with the ball
+    0.5 m ahead, and turned away from its throw-in tap. Two seconds unseen, the ball is lost: the head
+    searches."""
+    from agents.team.agent import BALL_LOST_S
+
+    agent = TeamAgent()
+    agent.reset("home_2", 0)
+    agent.step = 1000
+    pose = Pose2D(0.0, 0.0, 0.0)
+    agent._next_glance_s = math.inf  # its pose is uncertain here: no glance at a goal in between
+    for age_s, looks in [(1.0, True), (BALL_LOST_S + 0.1, False)]:
+        ball = BallEstimate(0.5, 0.2, 0.0, 0.0, 0.05, age_s)
+        yaw, pitch = agent._head(pose, ball if age_s <= BALL_LOST_S else None, None)
+        expected = agent._look_at(ball)
+        assert ((yaw, pitch) == pytest.approx(expected)) is looks
+        assert agent._camera is CameraPosition.BOTTOM

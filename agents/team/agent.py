@@ -34,7 +34,8 @@ One step (40 ms) runs, from the observation only:
    back toward the own goal nor out);
    the others walk to their role's position; every walk steps around the obstacles but the
    striker's near its ball.
-6. **Head**: track the ball, glance at a goal when the pose is uncertain; without its own
+6. **Head**: track the ball (unseen for a moment, after a glance at a goal when the pose is
+   uncertain, look where it is believed: not found there, it is forgotten); without its own
    ball, look where the team believes it, else search: a quick look near the feet, then wide
    sweeps; the camera is on every other step (lining up a shot with the ball at its feet,
    every third frame is the top camera's: it sees the goalkeeper).
@@ -104,7 +105,8 @@ DEFAULT_METHOD = "particle"
 CAMERA_EVERY_STEPS = 2
 RADIO_EVERY_STEPS = 5  # one packet per 0.2 s: the radio's budget
 BALL_LOST_S = 2.0  # the own ball is trusted this long without a sighting
-TRACK_BALL_S = 0.6  # younger than this, the head follows the ball
+TRACK_BALL_S = 0.6  # younger than this, the head follows the ball; older (up to BALL_LOST_S, after a kick
+# FOLLOW_KICK_S), it looks where the ball is believed
 GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
 GLANCE_S = 0.8  # ... for this long
 UNCERTAIN_M = 0.25
@@ -150,7 +152,9 @@ SIDE_TAP_APPROACH_RAD = math.radians(50.0)  # a striker on the field side of a t
 # this of square to the line or facing the line within this, taps it along the line: it stands facing the line
 # with the ball beside a foot
 SIDE_TAP_BEYOND_M = 0.1  # ... unless it stands farther than this past the ball the way the tap goes (in its own
-# half, toward the opponent goal): it would walk round the ball to its place
+# half, toward the opponent goal): it would walk round the ball to its place; ...
+BACK_TAP_CLEAR_M = 1.5  # ... with the ball this far from its own goal line or farther, it taps it back toward
+# its own goal instead (a robot 1 m from the ball once walked round it for 10 s)
 SIDE_TAP_FORWARD_M = 0.07  # ... this far ahead ...
 SIDE_TAP_SIDE_M = 0.16  # ... and this far to the side the tap goes, and side-steps into it
 SIDE_TAP_WITHIN_M = 0.04  # ... once the ball lies this near that spot (and the robot faces the line within
@@ -619,7 +623,8 @@ class TeamAgent:
         """A throw-in's first touch for a striker on the field side of the ball that comes at it about square
         to the side line or faces the line (:data:`SIDE_TAP_APPROACH_RAD`): it stands facing the line with
         the ball beside a foot and side-steps into it, tapping it along the line (toward the opponent goal
-        in the own half, else away from the robot's side), where walking round the ball to play it along
+        in the own half, or back from past the ball when the ball lies :data:`BACK_TAP_CLEAR_M` or more from
+        the own goal line; else away from the robot's side), where walking round the ball to play it along
         the line took seconds. None when the robot comes at the ball otherwise, or stands past it the way
         the tap goes (:data:`SIDE_TAP_BEYOND_M`). Chosen once per throw-in, the way included, from the ball's
         sighting and the robot's heading: a jump of the position estimate that carries the ball over the
@@ -628,7 +633,12 @@ class TeamAgent:
         tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
         if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
             dx, dy = _in_field(Pose2D(0.0, 0.0, pose.theta), ball_rel)  # the ball from the robot by its sighting
-            along = attack if attack * ball_xy[0] < 0.0 or abs(dx) < 1e-6 else math.copysign(1.0, dx)
+            if attack * ball_xy[0] < 0.0:  # own half: toward the opponent goal, or back from past the ball
+                along = attack
+                if attack * dx < -SIDE_TAP_BEYOND_M and FIELD.half_length + attack * ball_xy[0] >= BACK_TAP_CLEAR_M:
+                    along = -attack
+            else:  # away from the robot's side
+                along = attack if abs(dx) < 1e-6 else math.copysign(1.0, dx)
             inside = side * dy
             square = math.atan2(abs(dx), inside) <= SIDE_TAP_APPROACH_RAD
             facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= SIDE_TAP_APPROACH_RAD
@@ -767,6 +777,8 @@ class TeamAgent:
         if self._just_kicked():  # the ball rolled off ahead
             self._camera = CameraPosition.TOP
             return 0.0, skills.SCAN_PITCH_RAD
+        if ball_rel is not None:  # not seen lately (a glance took the head away): look where it is believed;
+            return self._look_at(ball_rel)  # not found there, it is forgotten (agents.modelling.ball_absence)
         if ball_rel is None and ball_field is not None and now % SEARCH_CYCLE_S < LOOK_FOR_TEAM_BALL_S:
             return self._look_at(_relative(pose, ball_field))
         self._sweeping = True
