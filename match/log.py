@@ -5,7 +5,8 @@ match of 8 robots (about 32 000 steps) takes a few megabytes. Agents' own pose e
 are logged beside the truth when their policy reports one (NaN otherwise), and so is what
 an :class:`~match.protocol.policy.AgentReporter` reports (its ball, the team ball, its role
 and the landmarks it saw; NaN where it reports nothing), in the per-robot extras that
-``scenarios.replay.record`` reads.
+``scenarios.replay.record`` reads; so are the actions each robot's policy asked for (its
+motion and walk command), which tell a robot that stands on purpose from one that is stuck.
 """
 
 from __future__ import annotations
@@ -16,9 +17,13 @@ from pathlib import Path
 import numpy as np
 
 from match.game import Match
+from match.protocol.actions import Action
 from match.protocol.policy import AgentReport
+from world.motions import Motion
 
 MAX_ROLES = 64  # distinct role names kept; a report with a role beyond them logs no role
+MOTIONS = tuple(Motion)  # a logged motion is its index here
+NO_ACTION = -1  # the logged motion of a robot without an action that step (a fault, or the first row)
 
 class MatchLog:
     def __init__(self, agents: Sequence[str]):
@@ -31,6 +36,8 @@ class MatchLog:
         self._fallen: list[np.ndarray] = []
         self._estimates: list[np.ndarray] = []
         self._reports: list[np.ndarray] = []  # (N, 6): ball x, y, team ball x, y, role index, landmark bits
+        self._motions: list[np.ndarray] = []  # (N,): index into MOTIONS, NO_ACTION without an action
+        self._walks: list[np.ndarray] = []  # (N, 3): vx m/s, vy m/s, omega rad/s (robot frame)
         self.role_names: list[str] = []  # the roles reported, in the order they first appeared
         self._role_index: dict[str, int] = {}
 
@@ -38,9 +45,11 @@ class MatchLog:
         return len(self._time)
 
     def record(self, match: Match, estimates: Mapping[str, tuple[float, float, float] | None] | None = None,
-               reports: Mapping[str, AgentReport | None] | None = None) -> None:
-        """One step: the truth now, and what the policies reported (``estimates``: checked
-        (x, y, theta) tuples; ``reports``: checked reports; missing or None: nothing)."""
+               reports: Mapping[str, AgentReport | None] | None = None,
+               actions: Mapping[str, Action | None] | None = None) -> None:
+        """One step: the truth now, what the policies reported (``estimates``: checked
+        (x, y, theta) tuples; ``reports``: checked reports; missing or None: nothing) and the
+        actions that led here (``actions``: the step's checked actions; missing or None: none)."""
         truth = match.truth()
         robots = np.empty((len(self.agents), 3), dtype=np.float32)
         fallen = np.empty(len(self.agents), dtype=bool)
@@ -59,6 +68,15 @@ class MatchLog:
         self._fallen.append(fallen)
         self._estimates.append(guesses)
         self._reports.append(self._report_row(reports or {}))
+        motions = np.full(len(self.agents), NO_ACTION, dtype=np.int8)
+        walks = np.zeros((len(self.agents), 3), dtype=np.float32)
+        for i, agent in enumerate(self.agents):
+            action = (actions or {}).get(agent)
+            if action is not None:
+                motions[i] = MOTIONS.index(action.motion)
+                walks[i] = action.walk
+        self._motions.append(motions)
+        self._walks.append(walks)
 
     def _report_row(self, reports: Mapping[str, AgentReport | None]) -> np.ndarray:
         row = np.full((len(self.agents), 6), np.nan, dtype=np.float32)
@@ -83,7 +101,9 @@ class MatchLog:
         robots (T, N, 3: x, y, theta), fallen (T, N), estimates (T, N, 3) and agents (N); the
         reports' ball_estimates (T, N, 2: x, y), team_ball (T, N, 2), roles (T, N: index into
         role_names, float), role_names (R) and landmarks_seen (T, N: bit i for
-        ``FIELD.landmarks[i]``, float); NaN where a robot reported nothing."""
+        ``FIELD.landmarks[i]``, float); NaN where a robot reported nothing; the actions that
+        led to each row: motions (T, N: index into motion_names (M), -1 without an action) and
+        walks (T, N, 3: the walk command, vx m/s, vy m/s, omega rad/s)."""
         n = len(self.agents)
         reports = np.array(self._reports, dtype=np.float32).reshape(-1, n, 6)
         np.savez_compressed(
@@ -101,5 +121,8 @@ class MatchLog:
             roles=reports[:, :, 4],
             role_names=np.array(self.role_names, dtype=str),
             landmarks_seen=reports[:, :, 5],
+            motions=np.array(self._motions, dtype=np.int8).reshape(-1, n),
+            walks=np.array(self._walks, dtype=np.float32).reshape(-1, n, 3),
+            motion_names=np.array([m.value for m in MOTIONS], dtype=str),
         )
         return path

@@ -225,7 +225,7 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
             radio.observations(observations)
             steps += 1
             _write_events(events_file, result.events)
-            match_log.record(match, decision.estimates, decision.reports)
+            match_log.record(match, decision.estimates, decision.reports, actions)
             if progress and steps % PROGRESS_EVERY_STEPS == 0:
                 _update_bar(bar, match, total_play_s, time.perf_counter() - started)
     except BaseException as error:  # the outputs are written all the same, then it is raised again

@@ -42,6 +42,12 @@ shoot-out's kicks count for nothing here):
   stayed within :data:`STILL_M` and :data:`STILL_RAD` of where it was (a stuck robot; a
   goalkeeper with the ball far away may also stand); ``longest_still_field_s``: the same
   over the field players alone (every robot but the goalkeeper, player 0);
+- ``longest_stuck_s``: the most playing time, within one such still stretch of one robot of
+  the team, in which the robot's own policy asked it to move (a motion other than a stand, a
+  walk command other than zero): a robot that wants to move and does not, jammed or dithering
+  (a robot that stands on purpose, a defender holding its place, is still but not stuck);
+  ``longest_stuck_field_s``: the same over the field players alone; both None for a log
+  without actions;
 
 and for the match, ``restart_waits_s``: the time from each kick-off and throw-in to the next
 touch of the ball, in order (a restart nobody touched counts until the next restart,
@@ -60,6 +66,7 @@ from match.protocol.actions import Action
 from match.protocol.game_control import GameState
 from match.protocol.ids import AgentId
 from world.field import FIELD
+from world.motions import Motion
 
 SIDES = ("home", "away")
 PLAYING = int(GameState.PLAYING)
@@ -105,6 +112,8 @@ TEAM_KEYS = (
     "field_lost_share",
     "longest_still_s",
     "longest_still_field_s",
+    "longest_stuck_s",
+    "longest_stuck_field_s",
 )
 
 
@@ -311,26 +320,48 @@ def _from_log(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray, owne
 
 
 def _stillness(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:
-    """The longest stretch of playing time any robot, and any field player, of each team stood still
-    (see the module)."""
+    """The longest stretch of playing time any robot, and any field player, of each team stood still, and
+    the longest time one was stuck (see the module)."""
     agents = [str(a) for a in np.asarray(log["agents"])]
     time_s = np.asarray(log["time_s"], dtype=float)
     robots = np.asarray(log["robots"], dtype=float)
+    asked = _asked_to_move(log)
     for side in SIDES:
         teams[side]["longest_still_s"] = teams[side]["longest_still_field_s"] = 0.0
+        teams[side]["longest_stuck_s"] = teams[side]["longest_stuck_field_s"] = None if asked is None else 0.0
     for i, agent in enumerate(agents):
         side = side_of(agent)
         if side is None or rows.size == 0:
             continue
-        longest = _longest_still_s(robots[rows, i], rows, time_s[rows])
-        teams[side]["longest_still_s"] = round(max(teams[side]["longest_still_s"], longest), 3)
+        moving = np.zeros(rows.size, dtype=bool) if asked is None else asked[rows, i]
+        still, stuck = _longest_still_s(robots[rows, i], rows, time_s[rows], moving)
+        keys = [("longest_still_s", still), ("longest_stuck_s", stuck)]
         if not AgentId.parse(agent).is_goalkeeper:
-            teams[side]["longest_still_field_s"] = round(max(teams[side]["longest_still_field_s"], longest), 3)
+            keys += [("longest_still_field_s", still), ("longest_stuck_field_s", stuck)]
+        for key, seconds in keys:
+            if teams[side][key] is not None:
+                teams[side][key] = round(max(teams[side][key], seconds), 3)
 
 
-def _longest_still_s(poses: np.ndarray, rows: np.ndarray, time_s: np.ndarray) -> float:
-    """The longest stretch (s) of consecutive ``rows`` in which ``poses`` (x, y, theta) stayed put."""
-    longest, start = 0.0, 0
+def _asked_to_move(log: Mapping[str, np.ndarray]) -> np.ndarray | None:
+    """(T, N) bool: the robot's action that led to the row asked it to move (a motion other than a stand, a walk
+    command other than zero); None for a log without actions."""
+    if "motions" not in log or "walks" not in log:
+        return None
+    names = [str(n) for n in np.asarray(log["motion_names"])] if "motion_names" in log else [m.value for m in Motion]
+    motions = np.asarray(log["motions"], dtype=int)
+    index = {name: k for k, name in enumerate(names)}
+    stand, walk = index.get(Motion.STAND.value, -2), index.get(Motion.WALK.value, -2)
+    walking = np.any(np.abs(np.asarray(log["walks"], dtype=float)) > 0.0, axis=-1)
+    return (motions >= 0) & (motions != stand) & ((motions != walk) | walking)
+
+
+def _longest_still_s(poses: np.ndarray, rows: np.ndarray, time_s: np.ndarray,
+                     asked: np.ndarray) -> tuple[float, float]:
+    """The longest stretch (s) of consecutive ``rows`` in which ``poses`` (x, y, theta) stayed put, and the most
+    time within one such stretch in which the robot was ``asked`` to move (per row: the step up to it)."""
+    longest = stuck = stuck_here = 0.0
+    start = 0
     anchor = poses[0]
     for k in range(1, rows.size):
         pose = poses[k]
@@ -338,9 +369,12 @@ def _longest_still_s(poses: np.ndarray, rows: np.ndarray, time_s: np.ndarray) ->
         moved = (math.hypot(pose[0] - anchor[0], pose[1] - anchor[1]) > STILL_M
                  or abs(math.remainder(pose[2] - anchor[2], math.tau)) > STILL_RAD)
         if gap or moved:
-            start, anchor = k, pose
+            start, anchor, stuck_here = k, pose, 0.0
+        elif asked[k]:
+            stuck_here += time_s[k] - time_s[k - 1]
         longest = max(longest, time_s[k] - time_s[start])
-    return longest
+        stuck = max(stuck, stuck_here)
+    return longest, stuck
 
 
 def _pose_errors(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> None:

@@ -150,6 +150,13 @@ def test_a_team_agents_reports_are_logged_and_others_are_nan(reported_match) -> 
         i = agents.index(other)
         for key in ("ball_estimates", "team_ball", "roles", "landmarks_seen", "estimates"):
             assert np.isnan(log[key][:, i]).all(), (other, key)
+    # the actions that led to each row: none to the first, every robot's (a stand at least) to the others
+    names = [str(n) for n in log["motion_names"]]
+    assert log["motions"].shape == (STEPS + 1, 4) and log["walks"].shape == (STEPS + 1, 4, 3)
+    assert (log["motions"][0] == -1).all() and (log["motions"][1:] >= 0).all()
+    assert names[log["motions"][-1, team]] in ("stand", "walk", "kick_left", "kick_right")
+    walking = log["motions"][1:, team] == names.index("walk")
+    assert walking.any() and np.abs(log["walks"][1:, team][walking]).max() > 0.0
     record = load_match(out)  # the replay page reads them
     assert set(record.extras) >= {"ball_estimate", "team_ball", "role", "landmarks"}
     assert record.labels["role"] == ("goalkeeper",)

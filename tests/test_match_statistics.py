@@ -284,3 +284,32 @@ def test_what_became_of_a_shot(after: list, shots: int, outcomes: tuple[int, int
     away = match_statistics(events, log, {})["away"]
     assert away["shots_on_target"] == shots
     assert (away["shots_scored"], away["shots_saved"], away["shots_blocked"]) == outcomes
+
+
+def test_a_still_robot_is_stuck_only_while_its_own_actions_ask_it_to_move() -> None:
+    """Both robots stand still through rows 1-6 (1 s to 6 s). home_1 walks into something all along: stuck
+    for 5 s; away_1 stands on purpose, and asks for a walk of zero speed at 3 s and a turn at 4 s: stuck
+    for 1 s. A log without actions gives no stuck figures."""
+    from match.log import MOTIONS, NO_ACTION
+
+    log = hand_built_log()
+    log["agents"] = np.array(["home_1", "away_1"])
+    n = len(ROWS)
+    log["motion_names"] = np.array([m.value for m in MOTIONS])
+    motions = np.full((n, 2), MOTIONS.index(Motion.STAND), dtype=np.int8)
+    walks = np.zeros((n, 2, 3), dtype=np.float32)
+    motions[:, 0] = MOTIONS.index(Motion.WALK)
+    walks[:, 0] = (0.2, 0.0, 0.0)
+    motions[0] = NO_ACTION  # the first row: no action led to it
+    motions[3, 1] = motions[4, 1] = MOTIONS.index(Motion.WALK)
+    walks[4, 1] = (0.0, 0.0, 0.3)
+    log["motions"], log["walks"] = motions, walks
+    statistics = match_statistics(EVENTS, log, SUMMARY)
+    home, away = statistics["home"], statistics["away"]
+    assert home["longest_still_field_s"] == away["longest_still_field_s"] == pytest.approx(5.0)
+    assert home["longest_stuck_s"] == home["longest_stuck_field_s"] == pytest.approx(5.0)
+    assert away["longest_stuck_s"] == away["longest_stuck_field_s"] == pytest.approx(1.0)
+    log["robots"] = log["robots"].copy()
+    log["robots"][:, 0, 0] = np.arange(n) * 0.2  # home_1 walks 0.2 m every row: neither still nor stuck
+    assert match_statistics(EVENTS, log, SUMMARY)["home"]["longest_stuck_s"] == pytest.approx(0.0)
+    assert match_statistics(EVENTS, hand_built_log(), SUMMARY)["home"]["longest_stuck_s"] is None

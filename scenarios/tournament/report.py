@@ -49,6 +49,7 @@ TABLE_STATISTICS = (  # (key, header, format) of the per-policy means in table.m
     ("field_lost_share", "field players: lost share", ".3f"),
     ("longest_still_s", "longest still (s)", ".1f"),
     ("longest_still_field_s", "field player still (s)", ".1f"),
+    ("longest_stuck_field_s", "field player stuck (s)", ".1f"),
 )
 
 
