@@ -34,8 +34,8 @@ One step (40 ms) runs, from the observation only:
    back toward the own goal nor out);
    the others walk to their role's position; every walk steps around the obstacles but the
    striker's near its ball.
-6. **Head**: track the ball (unseen for a moment, after a glance at a goal when the pose is
-   uncertain, look where it is believed: not found there, it is forgotten); without its own
+6. **Head**: track the ball (a near one unseen for a moment: look where it is believed, until
+   a frame finds it or forgets it), glance at a goal when the pose is uncertain; without its own
    ball, look where the team believes it, else search: a quick look near the feet, then wide
    sweeps; the camera is on every other step (lining up a shot with the ball at its feet,
    every third frame is the top camera's: it sees the goalkeeper).
@@ -105,8 +105,10 @@ DEFAULT_METHOD = "particle"
 CAMERA_EVERY_STEPS = 2
 RADIO_EVERY_STEPS = 5  # one packet per 0.2 s: the radio's budget
 BALL_LOST_S = 2.0  # the own ball is trusted this long without a sighting
-TRACK_BALL_S = 0.6  # younger than this, the head follows the ball; older (up to BALL_LOST_S, after a kick
-# FOLLOW_KICK_S), it looks where the ball is believed
+TRACK_BALL_S = 0.6  # younger than this, the head follows the ball; older, it searches, ...
+LOOK_AT_NEAR_BALL_M = 1.0  # ... but a ball believed this near is looked at where it is believed until it is lost
+# (BALL_LOST_S) or forgotten (agents.modelling.ball_absence: a near ball is seldom hidden); a far belief is often
+# stale (a ball kicked away behind robots): the sweep finds the ball sooner
 GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
 GLANCE_S = 0.8  # ... for this long
 UNCERTAIN_M = 0.25
@@ -777,8 +779,8 @@ class TeamAgent:
         if self._just_kicked():  # the ball rolled off ahead
             self._camera = CameraPosition.TOP
             return 0.0, skills.SCAN_PITCH_RAD
-        if ball_rel is not None:  # not seen lately (a glance took the head away): look where it is believed;
-            return self._look_at(ball_rel)  # not found there, it is forgotten (agents.modelling.ball_absence)
+        if ball_rel is not None and ball_rel.distance_m < LOOK_AT_NEAR_BALL_M:  # not seen lately, but near
+            return self._look_at(ball_rel)
         if ball_rel is None and ball_field is not None and now % SEARCH_CYCLE_S < LOOK_FOR_TEAM_BALL_S:
             return self._look_at(_relative(pose, ball_field))
         self._sweeping = True
