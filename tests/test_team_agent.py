@@ -911,14 +911,16 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
 
 
 @pytest.mark.parametrize("ball_xy, age_s, looks", [((0.5, 0.2), 1.0, True), ((0.5, 0.2), 2.1, False),
-                                                   ((1.5, 0.2), 1.0, False), ((1.5, 0.2), 0.3, True)])
+                                                   ((1.5, 0.2), 1.0, False), ((1.5, 0.2), 0.3, True),
+                                                   ((-0.42, -0.06), 1.0, False)])
 def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_far_one_is_searched_for(
         ball_xy: tuple[float, float], age_s: float, looks: bool) -> None:
     """A ball 0.54 m away, last seen a second ago, is looked at where the ball model believes it; a striker
     once swept its head instead, with the ball 0.5 m ahead, and turned away from its throw-in tap. Two seconds
     unseen, the ball is lost: the head searches. A ball believed 1.5 m away and unseen for a second is searched
     for (in the throw-in drill, staring at a ball believed at the kick-off spot behind robots, while it rolled
-    away, cost 4-5 s); seen 0.3 s ago, it is tracked."""
+    away, cost 4-5 s); seen 0.3 s ago, it is tracked. A near ball behind the robot, out of the head's reach, is
+    searched for too (a striker's head once stood at its yaw limit for seconds)."""
     from agents.team.agent import BALL_LOST_S
 
     agent = TeamAgent()
