@@ -919,7 +919,7 @@ def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_fa
     once swept its head instead, with the ball 0.5 m ahead, and turned away from its throw-in tap. Two seconds
     unseen, the ball is lost: the head searches. A ball believed 1.5 m away and unseen for a second is searched
     for (in the throw-in drill, staring at a ball believed at the kick-off spot behind robots, while it rolled
-    away, cost 4-5 s); seen 0.3 s ago, it is tracked. A near ball behind the robot, out of the head's reach, is
+    away, cost 4-6 s); seen 0.3 s ago, it is tracked. A near ball behind the robot, out of the head's reach, is
     searched for too (a striker's head once stood at its yaw limit for seconds)."""
     from agents.team.agent import BALL_LOST_S
 
