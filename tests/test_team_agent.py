@@ -293,6 +293,34 @@ def test_after_a_throw_in_it_looks_for_the_ball_where_the_rule_put_it() -> None:
     assert report.team_ball_xy == pytest.approx((0.0, 1.6), abs=0.05)
 
 
+def test_after_a_throw_in_the_spot_comes_from_where_the_ball_left_not_where_it_rolled_on_to() -> None:
+    """A teammate saw the ball leave over the side line at x = 1.1 m and roll on beyond it to (2.5, 3.5);
+    the own team put it out: the rule's spot is 1 m back from where it left, toward the own (blue, -x) goal,
+    not from where it was last seen."""
+    from agents.team.messages import TeamMessage
+    from match.protocol import DropIn
+
+    agent = TeamAgent()
+    agent.reset("home_1", 3)
+    quiet = {"camera": int(CameraChoice.OFF), "image": np.zeros((120, 160, 3), np.uint8), "gyro": np.zeros(3)}
+
+    def step(sequence: int, drop_in_team: DropIn, since_s: float, ball_xy=None) -> dict:
+        packets = []
+        if ball_xy is not None:
+            seen = TeamMessage(player=2, sequence=sequence + 1, pose=(0.5, 1.5, 0.0), ball_xy=ball_xy,
+                               ball_sigma_m=0.1, ball_age_s=0.5)
+            packets = [(2, seen.encode())]
+        obs = _observation(sequence, radio=_radio(*packets), **quiet)
+        obs["game"].update(defended_goal=0, drop_in_team=int(drop_in_team), seconds_since_drop_in=np.float32(since_s))
+        agent.act(obs)
+        return agent.report()
+
+    for k, ball_xy in enumerate([(1.0, 1.9), (1.1, 2.2), (1.8, 2.9), (2.5, 3.5)]):
+        step(k, DropIn.NONE, 1e5, ball_xy)
+    report = step(4, DropIn.OWN_TEAM, 0.3)
+    assert report.team_ball_xy == pytest.approx((0.1, 1.6), abs=0.05)  # from (1.1, 2.0), not (2.5, 3.5)
+
+
 def test_the_striker_level_with_the_ball_walks_on_behind_it() -> None:
     """A striker level with the ball and off to its side (found standing there for 70 s, dithering
     between two targets) walks on round it, and from its way round to the spot behind the ball."""

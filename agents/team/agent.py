@@ -62,7 +62,7 @@ from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
 from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_absence import BallAbsence, in_clear_view
 from agents.modelling.ball_model import BallEstimate, BallModel
-from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, expected_spot, leaving_point, out_of_field
+from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, BallOut, expected_spot, leaving_point, out_of_field
 from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
@@ -223,6 +223,7 @@ class TeamAgent:
         self._believed_balls: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
         self._time_to_ball_s = math.inf
         self._last_ball_xy: tuple[float, float] | None = None  # the last ball it believed in (field frame)
+        self._left_at: BallOut | None = None  # where the believed ball left the field, while it is believed out
         self._drop_in_since_s = math.inf  # the last broadcast's seconds since a throw-in
         self._drop_in_at_s = -math.inf  # when the last throw-in put the ball back (own clock)
         self._drop_in_spot: tuple[float, float] | None = None  # where the rule put it, from the last belief
@@ -379,19 +380,25 @@ class TeamAgent:
 
     def _throw_in(self, obs: Observation, since_s: float) -> None:
         """The referee put the ball back ``since_s`` ago: every sighting from before is of a ball that
-        is gone, and the rule gives where it is now, from where the ball was last believed to be and
-        from who put it out (game-control data)."""
+        is gone, and the rule gives where it is now, from where the ball was believed to leave the field
+        (its first belief out, on the line it crossed; else where it was last believed) and from who put
+        it out (game-control data). A ball seen rolling on beyond the line, 2 m out by the put-back, once
+        gave a spot 1.5 m from the referee's, and the striker walked there."""
         self._drop_in_at_s = self.now_s - since_s
         if self.ball.age_s > since_s:
             self.ball.reset()
         self._drop_in_spot = None
         self._restart_aim_rad = None
         self._put_back_seen_xy = None
-        if self._last_ball_xy is not None:
+        defended = obs.game.defended_goal
+        toucher_defends = {DropIn.OWN_TEAM: defended, DropIn.OPPONENT: defended.other}.get(obs.game.drop_in_team)
+        if self._left_at is not None:  # where it was believed to leave, not where it rolled on to
+            left = self._left_at
+            self._drop_in_spot = throw_in_spot(left.x, left.y, left.over_end_line, toucher_defends)
+        elif self._last_ball_xy is not None:
             bx, by = self._last_ball_xy
-            defended = obs.game.defended_goal
-            toucher_defends = {DropIn.OWN_TEAM: defended, DropIn.OPPONENT: defended.other}.get(obs.game.drop_in_team)
             self._drop_in_spot = throw_in_spot(bx, by, abs(bx) > FIELD.half_length, toucher_defends)
+        self._left_at = None
 
     # ---- behaviour -----------------------------------------------------------------------
 
@@ -477,6 +484,10 @@ class TeamAgent:
             team = BallEstimate(*self._drop_in_spot, 0.0, 0.0, DROP_IN_SPOT_SIGMA_M, since_drop_in)
         if team is not None:
             self._last_ball_xy = (team.x, team.y)
+            if not out_of_field(self._last_ball_xy):
+                self._left_at = None
+            elif self._left_at is None:  # its first belief out, on the line it crossed
+                self._left_at = leaving_point(team)
         believed = own if own is not None else team
         if believed is None or not out_of_field((believed.x, believed.y)):
             self._ball_in_s = self.now_s
