@@ -20,8 +20,8 @@ One step (40 ms) runs, from the observation only:
    stand up after a fall, once it lies still; in a penalty shoot-out, reset at the kicker's
    or goalkeeper's place when the kick is set. After a throw-in (the
    game-control data's drop-in), the balls seen before it are forgotten and the ball is
-   believed at the rule's spot (from where it was last believed and who put it out) until
-   someone sees it.
+   believed at the rule's spot (from where it was believed to leave the field and who put it
+   out) until someone sees it.
 5. **Role** (PLAYING): goalkeeper, striker, supporter or defender (:mod:`agents.behavior.roles`)
    from the team model; the striker goes behind the ball and kicks it toward the opponent
    goal computed from its pose estimate, within 3 m of it into the widest part of the mouth
