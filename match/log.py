@@ -23,6 +23,7 @@ from world.motions import Motion
 
 MAX_ROLES = 64  # distinct role names kept; a report with a role beyond them logs no role
 MOTIONS = tuple(Motion)  # a logged motion is its index here
+_MOTION_INDEX = {motion: index for index, motion in enumerate(MOTIONS)}
 NO_ACTION = -1  # the logged motion of a robot without an action that step (a fault, or the first row)
 
 class MatchLog:
@@ -73,7 +74,7 @@ class MatchLog:
         for i, agent in enumerate(self.agents):
             action = (actions or {}).get(agent)
             if action is not None:
-                motions[i] = MOTIONS.index(action.motion)
+                motions[i] = _MOTION_INDEX[action.motion]
                 walks[i] = action.walk
         self._motions.append(motions)
         self._walks.append(walks)

@@ -346,11 +346,10 @@ def _stillness(teams: dict, log: Mapping[str, np.ndarray], rows: np.ndarray) -> 
 def _asked_to_move(log: Mapping[str, np.ndarray]) -> np.ndarray | None:
     """(T, N) bool: the robot's action that led to the row asked it to move (a motion other than a stand, a walk
     command other than zero); None for a log without actions."""
-    if "motions" not in log or "walks" not in log:
+    if not {"motions", "walks", "motion_names"} <= set(log):
         return None
-    names = [str(n) for n in np.asarray(log["motion_names"])] if "motion_names" in log else [m.value for m in Motion]
     motions = np.asarray(log["motions"], dtype=int)
-    index = {name: k for k, name in enumerate(names)}
+    index = {str(name): k for k, name in enumerate(np.asarray(log["motion_names"]))}
     stand, walk = index.get(Motion.STAND.value, -2), index.get(Motion.WALK.value, -2)
     walking = np.any(np.abs(np.asarray(log["walks"], dtype=float)) > 0.0, axis=-1)
     return (motions >= 0) & (motions != stand) & ((motions != walk) | walking)
