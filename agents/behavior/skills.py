@@ -242,7 +242,7 @@ class HeadSweep:
 ARRIVED_M = 0.15  # nearer than this to a target position, only turn to its heading
 ARRIVED_RAD = math.radians(15.0)
 FAR_M = 0.5  # farther than this, face the target and walk forward; nearer, step sideways too
-FACE_TARGET_RAD = 0.5  # farther off than this, turn in place first
+FACE_TARGET_RAD = 0.5  # farther off than this, turn to face it while stepping toward it (not in place)
 POSITION_GAIN_PER_S = 0.8
 AVOID_BELOW_M = 0.4  # a sonar echo nearer than this in front of a robot walking forward ...
 AVOID_SIDE_MPS = 0.08  # ... makes it step aside at this speed and slow down
@@ -263,10 +263,21 @@ def walk_to(pose: Pose2D, target: Pose2D) -> tuple[Motion, tuple[float, float, f
     bearing = math.atan2(left, forward)
     if distance > FAR_M:
         if abs(bearing) > FACE_TARGET_RAD:
-            return Motion.WALK, turn_toward(bearing)
+            vx, vy = toward(bearing)
+            return Motion.WALK, walk_command(vx, vy, turn_toward(bearing)[2])
         return Motion.WALK, walk_command(WALK_HIGH[0], 0.0, TURN_GAIN_PER_S * bearing)
     return Motion.WALK, walk_command(POSITION_GAIN_PER_S * forward, POSITION_GAIN_PER_S * left,
                                      TURN_GAIN_PER_S * heading_error)
+
+
+def toward(bearing_rad: float) -> tuple[float, float]:
+    """The fastest step (vx, vy; m/s, torso frame) toward ``bearing_rad`` the walk's limits allow: on
+    the ellipse of the forward (or backward) and sideways limits. A quarter turn at the turn limit
+    takes 1.6 s; stepping sideways all the while, a robot moves 0.14 m in it."""
+    c, s = math.cos(bearing_rad), math.sin(bearing_rad)
+    along = WALK_HIGH[0] if c >= 0.0 else -WALK_LOW[0]
+    scale = 1.0 / math.hypot(c / along, s / WALK_HIGH[1])
+    return c * scale, s * scale
 
 
 def avoid(walk: tuple[float, float, float], sonar_m: tuple[float, ...]) -> tuple[float, float, float]:
