@@ -938,7 +938,8 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
     assert strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=True) == strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=False)
 
 
-@pytest.mark.parametrize("ball_xy, age_s, looks", [((0.5, 0.2), 1.0, True), ((0.5, 0.2), 2.1, False),
+@pytest.mark.parametrize("ball_xy, age_s, looks", [((0.5, 0.2), 1.0, True), ((0.9, 0.08), 1.2, True),
+                                                   ((0.5, 0.2), 2.1, False),
                                                    ((1.5, 0.2), 1.0, False), ((1.5, 0.2), 0.3, True),
                                                    ((-0.42, -0.06), 1.0, False)])
 def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_far_one_is_searched_for(
@@ -948,14 +949,24 @@ def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_fa
     unseen, the ball is lost: the head searches. A ball believed 1.5 m away and unseen for a second is searched
     for (in the throw-in drill, staring at a ball believed at the kick-off spot behind robots, while it rolled
     away, cost 4-6 s); seen 0.3 s ago, it is tracked. A near ball behind the robot, out of the head's reach, is
-    searched for too (a striker's head once stood at its yaw limit for seconds)."""
-    from agents.team.agent import BALL_LOST_S
+    searched for too (a striker's head once stood at its yaw limit for seconds). The ball is the ball model's, as
+    unsure as its age makes it: a look that asked for a sure belief (sigma 0.25 m, 0.75 s unseen) once swept past a
+    ball 0.9 m ahead for 4.7 s."""
+    from agents.modelling.ball_model import BallModel
+    from agents.team.agent import BALL_LOST_S, DT_S
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
     agent.step = 1000
     pose = Pose2D(0.0, 0.0, 0.0)
     agent._next_glance_s = math.inf  # its pose is uncertain here: no glance at a goal in between
-    ball = BallEstimate(*ball_xy, 0.0, 0.0, 0.05, age_s)
+    model = BallModel()
+    for _ in range(10):  # seen for 0.4 s, then unseen for age_s
+        model.measure(math.hypot(*ball_xy), math.atan2(ball_xy[1], ball_xy[0]))
+        model.predict(DT_S, Displacement())
+    for _ in range(round(age_s / DT_S) - 1):
+        model.predict(DT_S, Displacement())
+    ball = model.relative()
+    assert ball.age_s == pytest.approx(age_s, abs=DT_S) and ball.x == pytest.approx(ball_xy[0], abs=0.01)
     head = agent._head(pose, ball if age_s <= BALL_LOST_S else None, None)
     assert (head == pytest.approx(agent._look_at(ball))) is looks

@@ -7,7 +7,7 @@ import math
 import pytest
 
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
-from agents.modelling.ball_absence import MISS_WINDOW_S, MISSES_TO_FORGET, BallAbsence, in_clear_view
+from agents.modelling.ball_absence import MISS_WINDOW_S, MISSES_TO_FORGET, BallAbsence, in_clear_view, in_view
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate, BallModel
 from agents.modelling.obstacle_model import Obstacle, ObstacleKind
 from agents.localization.estimate import EstimateSource, PoseEstimate
@@ -68,8 +68,11 @@ def test_a_ball_is_in_clear_view_only_near_in_the_image_and_unhidden() -> None:
     assert not in_clear_view(ahead, 0.0, 0.0, CameraPosition.TOP, ())  # it is below the image
     assert not in_clear_view(BallEstimate(-0.9, 0.0, 0.0, 0.0, 0.05, 0.5), 0.0, LOOKING_DOWN_RAD,
                              CameraPosition.TOP, ())  # behind the robot
-    assert not in_clear_view(BallEstimate(0.9, 0.0, 0.0, 0.0, 0.4, 0.5), 0.0, LOOKING_DOWN_RAD,
-                             CameraPosition.TOP, ())  # too unsure where it is
+    unsure = BallEstimate(0.9, 0.0, 0.0, 0.0, 0.4, 0.5)
+    assert not in_clear_view(unsure, 0.0, LOOKING_DOWN_RAD, CameraPosition.TOP, ())  # too unsure for a miss to count
+    assert in_view(unsure, 0.0, LOOKING_DOWN_RAD, CameraPosition.TOP, ())  # ... but worth a look there
+    hidden_by = Obstacle(0.5, 0.03, ObstacleKind.OPPONENT, 0.0)
+    assert not in_view(unsure, 0.0, LOOKING_DOWN_RAD, CameraPosition.TOP, (hidden_by,))
     far = BallEstimate(3.0, 0.0, 0.0, 0.0, 0.05, 0.5)
     assert not in_clear_view(far, 0.0, 0.1, CameraPosition.TOP, ())
     in_front = Obstacle(0.5, 0.03, ObstacleKind.OPPONENT, 0.0)

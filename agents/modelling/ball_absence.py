@@ -33,8 +33,19 @@ def in_clear_view(
     ball: BallEstimate, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition,
     obstacles: Iterable[Obstacle],
 ) -> bool:
-    """Whether a frame at these head angles would show ``ball`` (torso frame; the module docstring)."""
-    if ball.sigma_m > MAX_SIGMA_M or not MIN_VIEW_M <= ball.distance_m <= MAX_VIEW_M:
+    """Whether a frame at these head angles would show ``ball`` (torso frame) and the belief is sure
+    enough (:data:`MAX_SIGMA_M`) that a frame without it is a miss (the module docstring)."""
+    return ball.sigma_m <= MAX_SIGMA_M and in_view(ball, head_yaw_rad, head_pitch_rad, camera, obstacles)
+
+
+def in_view(
+    ball: BallEstimate, head_yaw_rad: float, head_pitch_rad: float, camera: CameraPosition,
+    obstacles: Iterable[Obstacle],
+) -> bool:
+    """Whether a frame at these head angles would show a ball where ``ball`` (torso frame) believes it,
+    however unsure the belief: at a distance a frame resolves, not beside the legs, inside the image by
+    :data:`VIEW_MARGIN_PX`, and no robot of ``obstacles`` in front of it."""
+    if not MIN_VIEW_M <= ball.distance_m <= MAX_VIEW_M:
         return False
     if ball.distance_m < NEAR_M and abs(ball.bearing_rad) > NEAR_BEARING_RAD:
         return False

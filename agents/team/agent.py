@@ -60,7 +60,7 @@ from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
 from agents.behavior.unjam import Unjammer
-from agents.modelling.ball_absence import BallAbsence, in_clear_view
+from agents.modelling.ball_absence import BallAbsence, in_clear_view, in_view
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, BallOut, expected_spot, leaving_point, out_of_field
 from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
@@ -107,8 +107,9 @@ RADIO_EVERY_STEPS = 5  # one packet per 0.2 s: the radio's budget
 BALL_LOST_S = 2.0  # the own ball is trusted this long without a sighting
 TRACK_BALL_S = 0.6  # younger than this, the head follows the ball; older, it searches, ...
 LOOK_AT_NEAR_BALL_M = 1.0  # ... but a ball believed this near, where a frame would show it, is looked at there
-# until it is seen, lost (BALL_LOST_S) or forgotten (agents.modelling.ball_absence: the frames that miss it); a far
-# belief is often stale and hidden (a ball kicked away behind robots), and one behind the robot cannot be seen
+# until it is seen or lost (BALL_LOST_S), however unsure the model has grown (while it is sure, the frames that miss
+# it forget it sooner: agents.modelling.ball_absence); a far belief is often stale and hidden (a ball kicked away
+# behind robots), and one behind the robot cannot be seen
 GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
 GLANCE_S = 0.8  # ... for this long
 UNCERTAIN_M = 0.25
@@ -791,8 +792,8 @@ class TeamAgent:
             self._camera = CameraPosition.TOP
             return 0.0, skills.SCAN_PITCH_RAD
         if ball_rel is not None and ball_rel.distance_m < LOOK_AT_NEAR_BALL_M:  # not seen lately, but near: look
-            yaw, pitch = self._look_at(ball_rel)  # there if a frame would show it (else a frame could not forget it)
-            if in_clear_view(ball_rel, yaw, pitch, self._camera, self.obstacles.obstacles()):
+            yaw, pitch = self._look_at(ball_rel)  # there if a frame would show it (not behind a robot or the robot)
+            if in_view(ball_rel, yaw, pitch, self._camera, self.obstacles.obstacles()):
                 return yaw, pitch
         if ball_rel is None and ball_field is not None and now % SEARCH_CYCLE_S < LOOK_FOR_TEAM_BALL_S:
             return self._look_at(_relative(pose, ball_field))
