@@ -35,6 +35,7 @@ def test_the_step_toward_a_bearing_lies_on_the_walk_limits() -> None:
 def test_a_far_target_ahead_is_walked_to_at_full_speed_and_a_near_one_stepped_to() -> None:
     pose = Pose2D(0.0, 0.0, 0.0)
     motion, walk = skills.walk_to(pose, Pose2D(2.0, 0.1, 0.0))
-    assert motion is Motion.WALK and walk == pytest.approx((WALK_HIGH[0], 0.0, skills.TURN_GAIN_PER_S * math.atan2(0.1, 2.0)))
+    steer = skills.TURN_GAIN_PER_S * math.atan2(0.1, 2.0)
+    assert motion is Motion.WALK and walk == pytest.approx((WALK_HIGH[0], 0.0, steer))
     motion, (vx, vy, _) = skills.walk_to(pose, Pose2D(0.0, -0.4, 0.0))
     assert motion is Motion.WALK and vx == pytest.approx(0.0) and vy < 0.0
