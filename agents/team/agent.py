@@ -29,7 +29,8 @@ One step (40 ms) runs, from the observation only:
    the way (:mod:`agents.behavior.kick_past`) (a ball going out or out: striker and roles
    are chosen by the spot the referee will put it back on, and the striker waits behind it,
    :mod:`agents.modelling.ball_out`;
-   a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`;
+   a ball in front of its own goal: it clears it out to the side, :mod:`agents.behavior.aim`,
+   or, lying at the goal line, holds off, :mod:`agents.behavior.goal_line`;
    a throw-in's ball still on the throw-in line: the quickest first touch that sends it neither
    back toward the own goal nor out);
    the others walk to their role's position; every walk steps around the obstacles but the
@@ -55,6 +56,7 @@ from typing import Any
 
 from agents.behavior import paths, skills
 from agents.behavior.aim import POST_CLEARANCE_M, Aim, kick_aim, on_their_goal_line, restart_aim
+from agents.behavior.goal_line import at_own_goal_line, hold_off
 from agents.behavior.kick_past import kick_past
 from agents.behavior.shot_window import ShotWindow, shot_window
 from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
@@ -552,6 +554,10 @@ class TeamAgent:
             return motion, walk, head
         goal_x = FIELD.half_length * attack
         ball_xy = (ball_field.x, ball_field.y) if ball_rel is None else _in_field(pose, ball_rel)
+        if at_own_goal_line(ball_xy, attack):  # no way behind it but through the goal: hold off
+            self.intention = Intention.POSITION
+            motion, walk = hold_off(pose, ball_xy, attack)
+            return motion, walk, head
         if out_of_field(ball_xy):  # not put back: it lies on a line, believed a little beyond it
             ball_xy = _into_field(ball_xy)
         aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
