@@ -10,7 +10,8 @@ import pytest
 
 from agents.modelling.ball_model import BallEstimate
 from agents.policies import make_policy
-from agents.team.agent import TeamAgent
+from agents.team.agent import LONE_SILENCE_S, TeamAgent
+from agents.team.messages import Role, TeamMessage
 from match.free_play import FreePlay
 from match.game import MatchConfig
 from match.protocol import (
@@ -20,6 +21,7 @@ from match.protocol import (
     GoalColor,
     Motion,
     Pose2D,
+    SecondaryState,
     make_action,
     observation_space,
     throw_in_spot,
@@ -186,6 +188,44 @@ def test_the_penalty_kicker_looks_at_the_goal_while_the_kick_is_set() -> None:
     assert [a["camera"] for a in actions if a["camera"] != int(CameraChoice.OFF)] == [int(CameraChoice.TOP)] * 2
 
 
+def _keeper_observation(step: int, teammate_talks: bool) -> dict:
+    """A PLAYING observation of ``home_0`` with a black image, and, every fifth step when
+    ``teammate_talks``, player 1's team message."""
+    obs = _observation(0, image=np.zeros_like(observation_space()["image"].sample()))
+    obs["game"]["player"] = 0
+    obs["game"]["secondary"] = int(SecondaryState.NORMAL)
+    radio = obs["radio"]
+    radio["count"] = 0
+    if teammate_talks and step % 5 == 0:
+        data = TeamMessage(1, step, (-1.0, 0.0, 0.0), ball_xy=(0.0, 0.0), time_to_ball_s=5.0).encode()
+        radio["count"], radio["sender"][0], radio["length"][0] = 1, 1, len(data)
+        radio["data"][0, : len(data)] = np.frombuffer(data, dtype=np.uint8)
+    return obs
+
+
+@pytest.mark.parametrize("teammate_talks, role_at_the_end", [(False, Role.STRIKER), (True, Role.GOALKEEPER)])
+def test_a_goalkeeper_that_hears_no_teammate_plays_the_field(teammate_talks: bool, role_at_the_end: Role) -> None:
+    agent = TeamAgent()
+    agent.reset("home_0", 0)
+    roles = []
+    for step in range(int(LONE_SILENCE_S / 0.04) + 25):
+        agent.act(_keeper_observation(step, teammate_talks))
+        roles.append(agent.role)
+    assert roles[int(LONE_SILENCE_S / 0.04) - 10] is Role.GOALKEEPER  # silent, but not for long yet
+    assert roles[-1] is role_at_the_end
+
+
+@pytest.mark.render
+def test_a_team_of_one_goes_for_the_ball(tmp_path) -> None:
+    """A lone team agent is its team's player 0; it plays the ball, not only its goal (before, in a
+    1 v 1 match neither robot ever touched the ball, and here it walked back to its goal)."""
+    starts = (("home_0", Pose2D(-1.0, 0.0, 0.0)),)
+    config = MatchConfig(free_play=FreePlay(starts, ball_xy=(-0.2, 0.0)), initial_camera=CameraChoice.OFF)
+    run_match(config, {"home_0": TeamAgent()}, seed=3, out_dir=tmp_path, progress=False, max_steps=500)
+    ball = np.load(tmp_path / "match_log.npz")["ball"]
+    assert ball[-1, 0] > 1.0, ball[-1]  # kicked toward the goal it attacks (it went in, at 3.4 m)
+
+
 @pytest.mark.render
 def test_its_estimates_are_in_the_match_log(tmp_path) -> None:
     starts = (("home_1", Pose2D(-1.0, 0.0, 0.0)),)
@@ -272,7 +312,6 @@ def test_after_a_throw_in_it_looks_for_the_ball_where_the_rule_put_it() -> None:
     """A teammate saw the ball leave over the side line at x = 1 m; the game-control data then says
     the own team put it out and the referee put it back: by the rule it lies on the throw-in line
     1 m back toward the own (blue, -x) goal, and the old sighting no longer counts."""
-    from agents.team.messages import TeamMessage
     from match.protocol import DropIn, throw_in_spot
 
     agent = TeamAgent()
@@ -297,7 +336,6 @@ def test_after_a_throw_in_the_spot_comes_from_where_the_ball_left_not_where_it_r
     """A teammate saw the ball leave over the side line at x = 1.1 m and roll on beyond it to (2.5, 3.5);
     the own team put it out: the rule's spot is 1 m back from where it left, toward the own (blue, -x) goal,
     not from where it was last seen."""
-    from agents.team.messages import TeamMessage
     from match.protocol import DropIn
 
     agent = TeamAgent()
@@ -674,7 +712,7 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
     from agents.behavior import skills
     from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S
     from agents.team.agent import _relative, _throw_in_wait_pose
-    from agents.team.messages import Intention, Role, TeamMessage
+    from agents.team.messages import Intention
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)  # rests 2 m on, the path crosses the line at x = 0.5
     pose = Pose2D(0.2, 0.8, 0.0)
@@ -723,7 +761,6 @@ def test_the_striker_of_a_ball_going_out_is_the_robot_nearest_the_spot_it_comes_
     from types import SimpleNamespace
 
     from agents.behavior.roles import time_to_ball
-    from agents.team.messages import Role, TeamMessage
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)
     near_crossing = Pose2D(0.5, 1.3, 1.5)
@@ -750,7 +787,7 @@ def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does
     """Standing up, a striker's role and time to the ball are those of before its fall: its messages say it
     is down, as while it lay, so that a teammate does not leave the ball to it."""
     from agents.observation import MOTIONS
-    from agents.team.messages import Role, decode
+    from agents.team.messages import decode
 
     agent = TeamAgent()
     agent.reset("home_1", 0)

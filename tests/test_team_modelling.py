@@ -135,6 +135,24 @@ def test_roles_one_striker_with_hysteresis_and_the_rest_by_number() -> None:
     assert assign_role(Candidate(1, math.inf), [], Role.NONE) is Role.STRIKER  # alone: always the striker
 
 
+def test_roles_a_lone_goalkeeper_plays_the_field() -> None:
+    """A goalkeeper that hears no teammate is a team of one: it is the striker, which only keeping the
+    goal would never be; a field player alone is the striker anyway."""
+    assert assign_role(Candidate(0, 1.0), [], Role.NONE, lone=True) is Role.STRIKER
+    assert assign_role(Candidate(0, 1.0), [], Role.GOALKEEPER) is Role.GOALKEEPER
+    assert assign_role(Candidate(1, 1.0), [], Role.NONE, lone=True) is Role.STRIKER
+
+
+def test_team_model_silence_counts_from_the_last_teammate_heard() -> None:
+    team = TeamModel(own_player=0)
+    assert team.silent_for_s(3.0) == pytest.approx(3.0)  # none heard yet: since the own clock began
+    team.hear(TeamMessage(2, 1, None), now_s=5.0)
+    team.hear(TeamMessage(1, 1, None), now_s=6.0)
+    assert team.silent_for_s(7.5) == pytest.approx(1.5)
+    team.hear(TeamMessage(0, 1, None), now_s=7.0)  # its own echo is no teammate
+    assert team.silent_for_s(7.5) == pytest.approx(1.5)
+
+
 def test_roles_two_strikers_agree_on_one() -> None:
     """The hysteresis counts for every robot that says it is the striker, so each robot's view agrees."""
     # A robot a little faster than the striker does not take the role the striker keeps.

@@ -8,7 +8,9 @@ striker (itself, or a teammate by its last message), so that two robots that too
 at once (each with the other's older time) agree on the faster one instead of both keeping
 it. Of the others, the lower number defends (between the ball and its own goal) and the
 next supports (behind the striker, off to the side). With fewer players the roles degrade:
-one field player is always the striker, two are striker and defender.
+one field player is always the striker, two are striker and defender, and a goalkeeper that
+hears no teammate (``lone``: it plays alone, or every teammate has fallen silent) is the
+striker, since a team of one that only keeps its goal can never score.
 
 Positions are in the field frame; they are computed in the frame where the robot's own goal
 is at x = -3 (``attack`` = +1 when it defends the blue goal, -1 otherwise) and mirrored.
@@ -55,9 +57,10 @@ def time_to_ball(pose: Pose2D, ball_xy: tuple[float, float], fallen: bool = Fals
     return math.hypot(dx, dy) / WALK_SPEED_MPS + turn / TURN_SPEED_RADPS + (FALLEN_PENALTY_S if fallen else 0.0)
 
 
-def assign_role(own: Candidate, others: Sequence[Candidate], current: Role) -> Role:
-    """This robot's role, given the field players heard from (``others``, keeper excluded)."""
-    if own.player == 0:
+def assign_role(own: Candidate, others: Sequence[Candidate], current: Role, lone: bool = False) -> Role:
+    """This robot's role, given the field players heard from (``others``, keeper excluded); ``lone``: this
+    robot has heard no teammate for a while (a player 0 then plays the field)."""
+    if own.player == 0 and not lone:
         return Role.GOALKEEPER
     field_players = [own, *[c for c in others if c.player != 0 and c.player != own.player]]
 

@@ -36,6 +36,11 @@ class TeamModel:
         if message.player != self.own_player:
             self._heard[message.player] = (message, now_s)
 
+    def silent_for_s(self, now_s: float) -> float:
+        """Seconds since any teammate was last heard (``now_s`` itself when none ever was: the own clock
+        starts at the reset)."""
+        return now_s - max((heard_s for _, heard_s in self._heard.values()), default=0.0)
+
     def teammates(self, now_s: float) -> tuple[Teammate, ...]:
         """The teammates heard within :data:`MESSAGE_TIMEOUT_S`, by player number."""
         fresh = []
