@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from agents.vision.ball import find_ball
-from agents.behavior.scripted import REPORT, ScriptedPlayer
+from agents.behavior.scripted import LONE_SILENCE_STEPS, REPORT, ScriptedPlayer
 from match.protocol import (
     MOTIONS,
     NO_MOTION,
@@ -247,6 +247,25 @@ def test_goalkeeper_side_steps_without_walking_forward() -> None:
     vx, vy, _ = action["walk"]
     assert vx == 0.0 and vy > 0.0
     assert motion_of(scripted("home_0").act(_ball_obs(0.14, 0.03, player=0))) is Motion.KICK_LEFT
+
+
+@pytest.mark.parametrize("teammate_talks, chases", [(False, True), (True, False)])
+def test_a_goalkeeper_that_hears_no_teammate_chases_the_ball(teammate_talks: bool, chases: bool) -> None:
+    """A team of one: after 4 s without a teammate's report the keeper walks to a far ball ahead, which
+    a keeper on its line never does; one that hears a teammate keeps its line."""
+    keeper = scripted("home_0")
+    packet = REPORT.pack(1, 2.0, 0.0)
+    actions = []
+    for step in range(LONE_SILENCE_STEPS + 5):
+        obs = _ball_obs(1.5, 0.0, player=0, pitch=0.3, camera=CameraChoice.TOP)
+        if teammate_talks and step % 5 == 0:
+            radio = obs["radio"]
+            radio["count"], radio["sender"][0], radio["length"][0] = 1, 1, len(packet)
+            radio["data"][0, : len(packet)] = np.frombuffer(packet, np.uint8)
+        actions.append(keeper.act(obs))
+    assert all(float(a["walk"][0]) == 0.0 for a in actions[: LONE_SILENCE_STEPS - 5])  # on its line, not yet alone
+    last = actions[-1]
+    assert (motion_of(last) is Motion.WALK and float(last["walk"][0]) > 0.0) is chases
 
 
 def test_scans_and_then_turns_when_the_ball_is_unknown() -> None:

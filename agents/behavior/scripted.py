@@ -1,5 +1,7 @@
 """A simple scripted policy: an honest ball chaser for field players, a line-holding keeper.
 
+A keeper that has heard no teammate for 4 s (a team of one) chases the ball as a field player.
+
 It decides only from its observation (see :mod:`match.protocol.spaces`): the camera image
 (ball found by :mod:`agents.vision.ball`), head angles, accelerometer, gyro,
 motion status, game-control view and the teammates' radio packets. No localization: the
@@ -54,6 +56,7 @@ YIELD_MARGIN_M = 0.3  # hold position when a teammate is this much nearer to the
 RADIO_EVERY_STEPS = 5
 REPORT = struct.Struct("<Bff")  # player, ball distance m (-1 unknown), ball bearing rad
 TEAMMATE_MEMORY_STEPS = 12
+LONE_SILENCE_STEPS = 100  # 4 s: a keeper that has heard no teammate this long chases the ball (a team of one)
 UNKNOWN_DISTANCE_M = -1.0
 
 
@@ -117,7 +120,8 @@ class _Memory:
 
 
 class ScriptedPlayer:
-    """The scripted policy (:class:`match.protocol.policy.Policy`): ball chaser, or keeper as player 0.
+    """The scripted policy (:class:`match.protocol.policy.Policy`): ball chaser, or keeper as player 0
+    (unless it plays alone).
 
     ``camera_every_steps``: the camera is on every this many control steps, off between.
     It draws no random numbers, so the seed of :meth:`reset` changes nothing.
@@ -182,6 +186,11 @@ class ScriptedPlayer:
                 return True
         return False
 
+    def _alone(self) -> bool:
+        """No teammate heard for :data:`LONE_SILENCE_STEPS` (since the reset, when none ever was)."""
+        last_heard = max((heard for _, heard in self._m.teammates.values()), default=0)
+        return self._m.step - last_heard >= LONE_SILENCE_STEPS
+
     def _heading_error(self, obs: Observation) -> float:
         return normalize_angle(kickoff_heading(obs.game.defended_goal) - self._m.heading_rad)
 
@@ -202,7 +211,7 @@ class ScriptedPlayer:
         head = self._track(ball) if ball is not None else self._scan(SEARCH_SCAN_RATE_RADPS)
         if obs.motion is not None and obs.motion.is_kick:
             return Command(obs.motion, head=head)
-        if obs.player == KEEPER_PLAYER:
+        if obs.player == KEEPER_PLAYER and not self._alone():
             return self._goalkeeper(obs, ball, head)
         return self._field_player(obs, ball, head)
 
