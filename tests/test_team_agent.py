@@ -10,7 +10,8 @@ import pytest
 
 from agents.modelling.ball_model import BallEstimate
 from agents.policies import make_policy
-from agents.team.agent import LONE_SILENCE_S, TeamAgent
+from agents.behavior.skills import LONE_SILENCE_S
+from agents.team.agent import TeamAgent
 from agents.team.messages import Role, TeamMessage
 from match.free_play import FreePlay
 from match.game import MatchConfig

@@ -25,6 +25,7 @@ from agents.behavior.skills import (
     CONTROL_STEP_S,
     IDLE_SCAN_RATE_RADPS,
     KEEPER_PLAYER,
+    LONE_SILENCE_S,
     NEAR_SCAN_PITCH_RAD,
     SCAN_PITCH_RAD,
     SEARCH_SCAN_RATE_RADPS,
@@ -56,7 +57,7 @@ YIELD_MARGIN_M = 0.3  # hold position when a teammate is this much nearer to the
 RADIO_EVERY_STEPS = 5
 REPORT = struct.Struct("<Bff")  # player, ball distance m (-1 unknown), ball bearing rad
 TEAMMATE_MEMORY_STEPS = 12
-LONE_SILENCE_STEPS = 100  # 4 s: a keeper that has heard no teammate this long chases the ball (a team of one)
+LONE_SILENCE_STEPS = round(LONE_SILENCE_S / CONTROL_STEP_S)  # then the keeper chases the ball (a team of one)
 UNKNOWN_DISTANCE_M = -1.0
 
 

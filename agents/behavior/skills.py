@@ -88,6 +88,7 @@ ORBIT_DISTANCE_GAIN_PER_S = 0.5
 
 # Goalkeeper.
 KEEPER_PLAYER = 0
+LONE_SILENCE_S = 4.0  # ours: a keeper that has heard no teammate this long plays the field (a team of one)
 KEEPER_REACT_DISTANCE_M = 2.5
 KEEPER_KICK_DISTANCE_M = 0.25
 KEEPER_KICK_BEARING_RAD = 0.5

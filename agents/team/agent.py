@@ -136,7 +136,6 @@ FOLLOW_KICK_MPS = 0.15
 THROW_IN_WAIT_BACK_M = 0.3  # a striker waits for a ball going out this far on its own side of the rule's spot ...
 OUT_WAIT_S = 3.0  # ... the ball believed out this long at most: the referee puts a ball back 2 s after it left
 # (believed out longer: it is in)
-LONE_SILENCE_S = 4.0  # ours: a goalkeeper that has heard no teammate this long plays the field alone (roles)
 TEAMMATE_KICK_HEARD_S = 0.3  # a teammate's message this fresh saying it kicks: the own team touched the ball
 IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved this far inside the line
 DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
@@ -526,9 +525,10 @@ class TeamAgent:
         return assign_role(Candidate(self.player, own_time), others, self.role, lone=self._lone())
 
     def _lone(self) -> bool:
-        """Whether this goalkeeper plays alone: no teammate heard for :data:`LONE_SILENCE_S` (a team of one,
-        or every teammate silent); it then plays the field (:func:`agents.behavior.roles.assign_role`)."""
-        return self.player == 0 and self.team.silent_for_s(self.now_s) >= LONE_SILENCE_S
+        """Whether this goalkeeper plays alone: no teammate heard for
+        :data:`~agents.behavior.skills.LONE_SILENCE_S` (a team of one, or every teammate silent); it then
+        plays the field (:func:`agents.behavior.roles.assign_role`)."""
+        return self.player == 0 and self.team.silent_for_s(self.now_s) >= skills.LONE_SILENCE_S
 
     def _shootout_role(self, obs: Observation) -> Role:
         """In a shoot-out the kicking team's robot on the field strikes, the other team's player 0
