@@ -2,7 +2,7 @@
 
 Two worlds hold the same robots and ball: one draws the static scene in numpy
 (:mod:`world.ground`, :mod:`world.backdrop`), the other with TinyRenderer
-(``RenderConfig(analytic_ground=False)``). Their images must be the same pixel for pixel,
+(``RenderConfig(analytic_ground=False, renderer="tiny")``). Their images must be the same pixel for pixel,
 except at edges: the ground is sampled at pixel centres, half a pixel from TinyRenderer's
 sample points (see :mod:`world.pixel_rays`), the two rasterize the same edges with different
 arithmetic, and TinyRenderer leaves cracks where the floor strips meet the carpet.
@@ -57,7 +57,7 @@ def _world(render: RenderConfig) -> World:
 
 @pytest.fixture(scope="module")
 def worlds():
-    analytic, reference = _world(RenderConfig()), _world(RenderConfig(analytic_ground=False))
+    analytic, reference = _world(RenderConfig()), _world(RenderConfig(analytic_ground=False, renderer="tiny"))
     yield analytic, reference
     analytic.close()
     reference.close()

@@ -112,7 +112,7 @@ def quad_ground_world():
 
     world = World(
         [RobotSpec("a", TeamColor.BLUE), RobotSpec("b", TeamColor.RED)],
-        WorldConfig(render=RenderConfig(analytic_ground=False)),
+        WorldConfig(render=RenderConfig(analytic_ground=False, renderer="tiny")),
     )
     yield world
     world.close()

@@ -135,6 +135,33 @@ class _Palette:
         return np.concatenate([rgb, np.full((len(rgb), 1), 255, np.uint8)], axis=1).view(np.uint32).ravel()
 
 
+@dataclass(frozen=True)
+class HallTables:
+    """What draws the hall, for :mod:`world.raster.hall`: the floor texture as palette indices
+    (rows * columns, flat), its shape, corner (m) and padding (texels) around the carpet; the five
+    faces' axes, offsets (m), facings and palette colours; the banners; the palette (packed RGBA);
+    the index of TinyRenderer's clear colour; the near and far planes (m) and TinyRenderer's depth
+    of an inverse depth, ``k0 - k1 * s``."""
+
+    floor_colours: np.ndarray
+    floor_shape: tuple[int, int]
+    floor_corner_m: tuple[float, float]
+    carpet_half_m: tuple[float, float]
+    pad_texels: tuple[int, int]
+    texel_m: float
+    axes: np.ndarray
+    offsets_m: np.ndarray
+    facings: np.ndarray
+    face_colours: np.ndarray
+    banners: _Banners
+    palette: np.ndarray
+    nothing: int
+    near_m: float
+    far_m: float
+    depth_of_inverse: tuple[float, float]
+    far_from_inside: bool
+
+
 class HallBackdrop:
     """Draws the hall of a field for any pinhole camera; caches the last few camera poses."""
 
@@ -184,6 +211,20 @@ class HallBackdrop:
         else:
             self._cache.move_to_end(key)
         return backdrop
+
+    def tables(self) -> HallTables:
+        """The tables this backdrop draws from (see :class:`HallTables`)."""
+        corner_x, corner_y = self._floor_corner
+        half_x, half_y = self._carpet_half
+        return HallTables(
+            floor_colours=self._floor_colours, floor_shape=tuple(self._floor_shape),
+            floor_corner_m=(corner_x, corner_y), carpet_half_m=(half_x, half_y),
+            pad_texels=(round((corner_x - half_x) / self._texel_m), round((corner_y - half_y) / self._texel_m)),
+            texel_m=self._texel_m, axes=self._axes, offsets_m=self._offsets, facings=self._facings,
+            face_colours=np.asarray(self._colours), banners=self._banners, palette=self._palette,
+            nothing=self._nothing, near_m=self._near_m, far_m=self._far_m,
+            depth_of_inverse=tuple(float(k) for k in self._depth_of_inverse), far_from_inside=self._far_from_inside,
+        )
 
     def floor_texel_centres(self, backdrop: Backdrop) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Which pixels (flat) show the floor or carpet, and the field (x, y) m of the centres of their texels."""

@@ -8,6 +8,7 @@ import pybullet as pb
 
 from world.config import BallConfig
 from world.field import FieldGeometry
+from world.meshes import icosphere_mesh
 
 BALL_RGBA = (1.0, 0.55, 0.0, 1.0)
 
@@ -29,7 +30,9 @@ class BallState:
 def build_ball(client: int, field: FieldGeometry, config: BallConfig) -> int:
     radius = field.ball_radius
     collision = pb.createCollisionShape(pb.GEOM_SPHERE, radius=radius, physicsClientId=client)
-    visual = pb.createVisualShape(pb.GEOM_SPHERE, radius=radius, rgbaColor=BALL_RGBA, physicsClientId=client)
+    # Drawn as an explicit mesh, the same one the compiled renderer draws (world.meshes).
+    visual = pb.createVisualShape(pb.GEOM_MESH, rgbaColor=BALL_RGBA, physicsClientId=client,
+                                  **icosphere_mesh(radius).pybullet_arguments())
     ball = pb.createMultiBody(field.ball_mass, collision, visual, basePosition=(0.0, 0.0, radius), physicsClientId=client)
     pb.changeDynamics(
         ball,

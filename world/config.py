@@ -42,9 +42,17 @@ class BallConfig:
     linear_damping: float = 0.0
 
 
+RENDERERS = ("numba", "tiny")
+
+
 @dataclass(frozen=True)
 class RenderConfig:
-    """TinyRenderer lighting; flat-ish light keeps colours stable for segmentation."""
+    """Which renderer draws the cameras, and TinyRenderer's lighting (flat-ish light keeps colours stable for
+    segmentation).
+
+    ``renderer``: ``numba``, the compiled renderer (:mod:`world.raster`), or ``tiny``, pybullet's
+    TinyRenderer with the analytic hall (:mod:`world.rendering`), the reference it is tested against.
+    """
 
     light_direction: tuple[float, float, float] = (0.4, -0.3, 1.0)
     ambient: float = 0.65
@@ -54,6 +62,14 @@ class RenderConfig:
     far_m: float = 20.0
     # Draw the static scene (ground, walls, banners, roof) in numpy (world.ground); False: all by TinyRenderer.
     analytic_ground: bool = True
+    renderer: str = "numba"
+
+    def __post_init__(self) -> None:
+        if self.renderer not in RENDERERS:
+            raise ValueError(f"RenderConfig.renderer = {self.renderer!r}; expected one of {', '.join(RENDERERS)}")
+        if self.renderer == "numba" and not self.analytic_ground:
+            raise ValueError("RenderConfig(analytic_ground=False) draws the hall with TinyRenderer; "
+                             "expected renderer='tiny' with it")
 
 
 @dataclass(frozen=True)

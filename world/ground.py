@@ -28,6 +28,11 @@ class GroundRenderer:
         self._floor_half = floor_half_extent
         self._hall = HallBackdrop(field, render, TEXEL_M)
 
+    @property
+    def hall(self) -> HallBackdrop:
+        """The hall's drawing (:mod:`world.backdrop`)."""
+        return self._hall
+
     def composite(
         self, rgba: np.ndarray, depth_buffer: np.ndarray, rotation: np.ndarray, position: np.ndarray, focal_px: float
     ) -> np.ndarray:

@@ -16,7 +16,9 @@ from world.ground import GroundRenderer
 from world.robot_model import Joint
 
 if TYPE_CHECKING:
+    from world.raster.renderer import CompiledRenderer
     from world.static_scene import StaticScene
+    from world.teams import TeamColor
 
 
 def camera_pose(client: int, body: int, camera: CameraPosition) -> tuple[np.ndarray, np.ndarray]:
@@ -139,12 +141,38 @@ def render_robot_camera(
     return render(client, rotation, position, cam.width_px, cam.height_px, cam.vertical_fov_rad, render_config, ground)
 
 
+OVERVIEW_EYE_M = (0.0, -3.7, 4.4)
+OVERVIEW_TARGET_M = (0.0, -0.2, 0.0)
+
+
+def overview_pose(eye, target) -> tuple[np.ndarray, np.ndarray]:
+    """The broadcast camera's pose (rotation camera->world, position m) looking from ``eye`` at ``target``;
+    straight down with north (+y) up when ``eye`` is above ``target``."""
+    dx, dy = target[0] - eye[0], target[1] - eye[1]
+    up = (0.0, 1.0, 0.0) if abs(dx) < 1e-9 and abs(dy) < 1e-9 else (0.0, 0.0, 1.0)
+    return look_at(eye, target, up)
+
+
+def compiled_overview(
+    renderer: CompiledRenderer,
+    teams: dict[int, TeamColor],
+    eye: tuple[float, float, float] = OVERVIEW_EYE_M,
+    target: tuple[float, float, float] = OVERVIEW_TARGET_M,
+    width_px: int = 640,
+    height_px: int = 480,
+    fov_deg: float = 62.0,
+) -> np.ndarray:
+    """As :func:`render_overview`, drawn by the compiled renderer (``teams``: each robot body's team)."""
+    images, _ = renderer.frames([overview_pose(eye, target)], width_px, height_px, math.radians(fov_deg), teams)
+    return images[0]
+
+
 def render_overview(
     client: int,
     render_config: RenderConfig,
     ground: GroundRenderer | None,
-    eye: tuple[float, float, float] = (0.0, -3.7, 4.4),
-    target: tuple[float, float, float] = (0.0, -0.2, 0.0),
+    eye: tuple[float, float, float] = OVERVIEW_EYE_M,
+    target: tuple[float, float, float] = OVERVIEW_TARGET_M,
     width_px: int = 640,
     height_px: int = 480,
     fov_deg: float = 62.0,
@@ -155,9 +183,7 @@ def render_overview(
     With ``static`` (the world's :class:`world.static_scene.StaticScene`, which needs ``ground``),
     the hall and the goals are drawn once per camera pose, and TinyRenderer draws only the
     robots and the ball: the same image, faster."""
-    dx, dy = target[0] - eye[0], target[1] - eye[1]
-    up = (0.0, 1.0, 0.0) if abs(dx) < 1e-9 and abs(dy) < 1e-9 else (0.0, 0.0, 1.0)
-    rotation, position = look_at(eye, target, up)
+    rotation, position = overview_pose(eye, target)
     if static is not None and ground is not None:
         return static.render(rotation, position, width_px, height_px, math.radians(fov_deg))
     return render(client, rotation, position, width_px, height_px, math.radians(fov_deg), render_config, ground)

@@ -80,6 +80,13 @@ TOTAL_MASS_KG = TORSO_MASS_KG + sum(link.mass_kg for link in _LINKS)
 FOOT_SOLE_OFFSET_M = TORSO_CENTER_HEIGHT_M  # the soles touch the ground when standing
 
 
+def robot_link_shapes() -> list[tuple[int, tuple[float, float, float], tuple[float, ...], bool]]:
+    """The links drawn as boxes: (link index, half extents m, colour, whether it is the waistband, whose
+    colour is the team's). Each box is centred on its link's centre of mass."""
+    return [(int(link.joint), link.box_half_extents, link.rgba, link.joint is Joint.WAIST)
+            for link in _LINKS if link.box_half_extents is not None]
+
+
 def build_robot(client: int, team: TeamColor, x: float, y: float, yaw: float) -> int:
     """Create one robot standing at (x, y) facing ``yaw``; return its body id."""
     torso_half = tuple(s / 2.0 for s in TORSO_SIZE_M)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import pybullet as pb
 
 from world.field import FieldGeometry, GoalColor
+from world.meshes import goal_mesh, goal_pieces
 from world.textures import carpet_texture_file
 
 GOAL_RGBA = {GoalColor.BLUE: (0.1, 0.25, 0.95, 1.0), GoalColor.YELLOW: (0.95, 0.85, 0.1, 1.0)}
@@ -27,7 +28,6 @@ WALL_HEIGHT_M = 4.0
 BANNER_HEIGHT_M = 0.5
 BANNER_BOTTOM_M = 0.35
 CARPET_TILES = (4, 3)  # smaller triangles cut TinyRenderer's per-triangle bounding-box cost
-GOAL_FRAME_RADIUS_M = 0.02
 WALL_OVERLAP_M = 0.05  # walls reach this far below the floor and past the corners: no cracks
 BANNER_INSET_M = 0.01  # banners hang this far in front of their wall
 
@@ -120,44 +120,21 @@ def _cylinder_between(p0, p1):
 
 
 def _build_goal(client: int, field: FieldGeometry, color: GoalColor) -> int:
-    """Posts and crossbar (collide) plus a thin back frame, merged into one body."""
-    sign = color.sign
-    x_line = field.goal_line_x(color)
-    x_back = x_line + sign * field.goal_depth
-    post_r, height, post_y = field.goal_post_radius, field.goal_height, field.goal_post_y
-    bar_z = height - post_r
-    frame_r = GOAL_FRAME_RADIUS_M
-    pieces: list[tuple[tuple, tuple, float]] = []  # (start, end, radius)
-    for y in (-post_y, post_y):
-        pieces.append(((x_line, y, 0.0), (x_line, y, height), post_r))
-        pieces.append(((x_back, y, 0.0), (x_back, y, bar_z), frame_r))
-        pieces.append(((x_line, y, bar_z), (x_back, y, bar_z), frame_r))
-        pieces.append(((x_line, y, frame_r), (x_back, y, frame_r), frame_r))
-    pieces.append(((x_line, -post_y, bar_z), (x_line, post_y, bar_z), post_r))
-    pieces.append(((x_back, -post_y, bar_z), (x_back, post_y, bar_z), frame_r))
-    pieces.append(((x_back, -post_y, frame_r), (x_back, post_y, frame_r), frame_r))
-    frames = [_cylinder_between(a, b) for a, b, _ in pieces]
-    # Posts and crossbar are round; the thin back frame is made of boxes, which cost
-    # TinyRenderer 12 triangles each instead of a tessellated cylinder's many.
-    round_piece = [r == post_r for _, _, r in pieces]
-    kwargs = dict(
-        shapeTypes=[pb.GEOM_CYLINDER if rnd else pb.GEOM_BOX for rnd in round_piece],
-        radii=[r for _, _, r in pieces],
-        lengths=[f[2] for f in frames],
-        halfExtents=[(r, r, f[2] / 2) for (_, _, r), f in zip(pieces, frames)],
+    """Posts, crossbar and the thin back frame as one body: they collide as cylinders and boxes, and are
+    drawn as one explicit mesh (:func:`world.meshes.goal_mesh`), which the compiled renderer draws too."""
+    pieces = goal_pieces(field, color)
+    frames = [_cylinder_between(start, end) for start, end, _, _ in pieces]
+    collision = pb.createCollisionShapeArray(
+        shapeTypes=[pb.GEOM_CYLINDER if round_piece else pb.GEOM_BOX for *_, round_piece in pieces],
+        radii=[radius for _, _, radius, _ in pieces],
+        lengths=[length for _, _, length in frames],
+        halfExtents=[(radius, radius, length / 2) for (_, _, radius, _), (_, _, length) in zip(pieces, frames)],
+        collisionFramePositions=[position for position, _, _ in frames],
+        collisionFrameOrientations=[orientation for _, orientation, _ in frames],
         physicsClientId=client,
     )
-    positions = [f[0] for f in frames]
-    orientations = [f[1] for f in frames]
-    visual = pb.createVisualShapeArray(
-        visualFramePositions=positions,
-        visualFrameOrientations=orientations,
-        rgbaColors=[GOAL_RGBA[color]] * len(pieces),
-        **kwargs,
-    )
-    collision = pb.createCollisionShapeArray(
-        collisionFramePositions=positions, collisionFrameOrientations=orientations, **kwargs
-    )
+    visual = pb.createVisualShape(pb.GEOM_MESH, rgbaColor=GOAL_RGBA[color], physicsClientId=client,
+                                  **goal_mesh(field, color).pybullet_arguments())
     goal = pb.createMultiBody(0, collision, visual, physicsClientId=client)
     pb.changeDynamics(goal, -1, restitution=0.6, lateralFriction=0.4, physicsClientId=client)
     return goal

@@ -18,7 +18,7 @@ import numpy as np
 import pybullet as pb
 
 from world import rendering
-from world.ball import BallState, build_ball
+from world.ball import BALL_RGBA, BallState, build_ball
 from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RobotSpec, WorldConfig
 from world.errors import InvalidCommandError, InvalidPoseError, JointLimitError, UnknownRobotError
@@ -29,6 +29,8 @@ from world.locomotion import LocomotionController, MotionStatus, head_limits_che
 from world.motions import Motion
 from world.render_workers import BodyPoses, RenderWorker, RenderWorkerError
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
+from world.raster.geometry import raster_geometry
+from world.raster.renderer import CompiledRenderer
 from world.scene import SceneBodies, build_scene
 from world.static_scene import StaticScene
 from world.sensors import (
@@ -154,7 +156,13 @@ class World:
             pb.changeDynamics(body, -1, activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=client)
         self._ground = None
         self._static: StaticScene | None = None  # the broadcast view's hall and goals, drawn once per pose
-        if cfg.render.analytic_ground:
+        self._raster: CompiledRenderer | None = None
+        if cfg.render.renderer == "numba":
+            self._ground = GroundRenderer(cfg.field, cfg.render, self.scene.floor_half_extent)
+            geometry = raster_geometry(cfg.field, self._ball, {self._bodies[rid]: spec.team for rid, spec in
+                                                               zip(self._bodies, robots)}, self.scene.goals, BALL_RGBA)
+            self._raster = CompiledRenderer(client, geometry, self._ground.hall, cfg.render)
+        elif cfg.render.analytic_ground:
             self._ground = GroundRenderer(cfg.field, cfg.render, self.scene.floor_half_extent)
             if not gui:  # the GUI window still shows the textured quads
                 for body in self.scene.ground_visuals:
@@ -412,6 +420,8 @@ class World:
     def render_camera(self, robot_id: str) -> np.ndarray:
         """The robot's 160x120 RGB camera image (uint8, rows top to bottom)."""
         controller = self._controllers[self._check_robot(robot_id)]
+        if self._raster is not None:
+            return self._compiled_frames([self.camera_pose(robot_id)])[0][0]
         return rendering.render_robot_camera(
             self._client, controller.body, controller.camera, self.config.render, self._ground
         )
@@ -424,6 +434,9 @@ class World:
         order. A worker that fails is stopped, with the others, and its frames drawn here.
         """
         ids = [self._check_robot(rid) for rid in robot_ids]
+        if self._raster is not None:
+            yield from zip(ids, self._compiled_frames([self.camera_pose(rid) for rid in ids])[0])
+            return
         if not self._render_workers or len(ids) < 2:
             yield from self._render_here(ids)
             return
@@ -452,8 +465,24 @@ class World:
     def render_camera_at(self, rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
         """The 160x120 RGB image of a robot camera at a pose (rotation camera->world, position m)."""
         cam = NAO_CAMERA
+        if self._raster is not None:
+            return self._compiled_frames([(np.asarray(rotation, float), np.asarray(position, float))])[0][0]
         return rendering.render(self._client, np.asarray(rotation, float), np.asarray(position, float),
                                 cam.width_px, cam.height_px, cam.vertical_fov_rad, self.config.render, self._ground)
+
+    def camera_labels(self, robot_id: str) -> tuple[np.ndarray, np.ndarray]:
+        """The robot's camera image (as :meth:`render_camera`) and what each pixel shows: pybullet's segmentation
+        label (body id plus (link index + 1) << 24, -1 for the hall), (120, 160) int32. Needs the compiled
+        renderer."""
+        if self._raster is None:
+            raise ValueError("camera_labels needs RenderConfig(renderer='numba')")
+        images, labels = self._compiled_frames([self.camera_pose(self._check_robot(robot_id))])
+        return images[0], labels[0]
+
+    def _compiled_frames(self, cameras: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+        cam = NAO_CAMERA
+        teams = {self._bodies[rid]: team for rid, team in self._teams.items()}
+        return self._raster.frames(cameras, cam.width_px, cam.height_px, cam.vertical_fov_rad, teams)
 
     def render_workers_peak_mb(self) -> float | None:
         """The render workers' peak resident memory (MiB), summed; None without workers or where the system
@@ -572,6 +601,9 @@ class World:
     def render_overview(self, **kwargs) -> np.ndarray:
         """A broadcast view of the field (see :func:`world.rendering.render_overview`); its goals and hall are
         drawn once per camera pose (:mod:`world.static_scene`)."""
+        if self._raster is not None:
+            teams = {self._bodies[rid]: team for rid, team in self._teams.items()}
+            return rendering.compiled_overview(self._raster, teams, **kwargs)
         return rendering.render_overview(self._client, self.config.render, self._ground, static=self._static, **kwargs)
 
     # ---- checks ----------------------------------------------------------------------

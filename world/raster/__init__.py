@@ -1,0 +1,1 @@
+"""The compiled renderer: TinyRenderer's pipeline and the analytic hall, in numba."""

@@ -1,0 +1,183 @@
+"""Whole camera frames in one compiled call: the hall per pixel, the bodies' triangles, merged by depth.
+
+For each camera: the hall (:func:`world.raster.hall.draw_hall`) gives a colour and the depth
+of TinyRenderer's buffer behind which it shows; the bodies are drawn as TinyRenderer draws
+them (:mod:`world.raster.triangles`: shapes in creation order, triangles in mesh order) into
+a depth, colour and label buffer; a body pixel shows where its depth, converted as pybullet
+converts TinyRenderer's buffer, is nearer than the hall's. Rows are flipped to top-to-bottom.
+
+Shapes are culled by their bounding sphere against the view frustum first (a culled shape
+could not have covered a pixel). Cameras are independent: :func:`draw_frames_parallel` draws
+them on numba's threads, :func:`draw_frames` on one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from world.raster.hall import draw_hall
+from world.raster.triangles import draw_triangle, invert_transpose, mat_mul, new_scratch, transform_point
+
+F32 = np.float32
+CLEAR = np.uint32(0xFFFFFFFF)  # TinyRenderer's clear colour, white
+
+
+@njit(cache=True, error_model="numpy")
+def _viewport(width, height):
+    m = np.zeros((4, 4), np.float32)
+    m[0, 0] = F32(width / 2.0)
+    m[1, 1] = F32(height / 2.0)
+    m[2, 2] = F32(0.5)
+    m[0, 3] = F32(width / 2.0)
+    m[1, 3] = F32(height / 2.0)
+    m[2, 3] = F32(0.5)
+    m[3, 3] = F32(1.0)
+    return m
+
+
+@njit(cache=True, error_model="numpy")
+def _outside_frustum(model_view, centre, radius, tan_x, tan_y, near, far):
+    """Whether a sphere (centre in the shape's frame, radius m) lies wholly outside the view frustum."""
+    c = np.empty(3)
+    for i in range(3):
+        c[i] = (float(model_view[i, 0]) * centre[0] + float(model_view[i, 1]) * centre[1]
+                + float(model_view[i, 2]) * centre[2] + float(model_view[i, 3]))
+    margin = radius * 1.01 + 1e-4
+    ahead = -c[2]
+    if ahead + margin < near or ahead - margin > far:
+        return True
+    scale_x = 1.0 / np.sqrt(1.0 + tan_x * tan_x)
+    scale_y = 1.0 / np.sqrt(1.0 + tan_y * tan_y)
+    if (c[0] - ahead * tan_x) * scale_x > margin or (-c[0] - ahead * tan_x) * scale_x > margin:
+        return True
+    return (c[1] - ahead * tan_y) * scale_y > margin or (-c[1] - ahead * tan_y) * scale_y > margin
+
+
+@njit(cache=True, error_model="numpy")
+def draw_bodies(view, projection, width, height, models, inverse_models, vertices, normals, triangles,
+                shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
+                light, ambient, diffuse, specular, zbuffer, colour, label):
+    """Every shape's triangles into the buffers (h*w, rows from the bottom), as TinyRenderer draws them."""
+    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
+    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    zbuffer[:] = -far
+    colour[:] = CLEAR
+    label[:] = -1
+    viewport = _viewport(width, height)
+    eye = invert_transpose(view)  # its row 3 is the camera position (TinyRenderer's inverted view matrix)
+    px, py, pz = float(eye[3, 0]), float(eye[3, 1]), float(eye[3, 2])
+    tan_x = (width / 2.0) / (height / 2.0) / float(projection[1, 1])
+    tan_y = 1.0 / float(projection[1, 1])
+    gl = np.empty((4, 3), np.float32)
+    world = np.empty((4, 3), np.float32)
+    vertex_normals = np.empty((3, 3), np.float32)
+    point = np.empty(4, np.float32)
+    scratch = new_scratch()
+    for s in range(shape_instance.shape[0]):
+        instance = shape_instance[s]
+        model_view = mat_mul(view, models[instance])
+        if _outside_frustum(model_view, shape_centre[s], shape_radius[s], tan_x, tan_y, float(near), float(far)):
+            continue
+        pmv = mat_mul(projection, model_view)
+        model = models[instance]
+        inverse = inverse_models[instance]
+        for t in range(shape_first[s], shape_first[s] + shape_count[s]):
+            for j in range(3):
+                v = triangles[t, j]
+                x, y, z = vertices[v, 0], vertices[v, 1], vertices[v, 2]
+                transform_point(pmv, x, y, z, F32(1.0), point)
+                gl[:, j] = point
+                transform_point(model, x, y, z, F32(1.0), point)
+                world[:, j] = point
+                transform_point(inverse, normals[v, 0], normals[v, 1], normals[v, 2], F32(0.0), point)
+                vertex_normals[:, j] = point[:3]
+            ax, ay, az = float(world[0, 0]), float(world[1, 0]), float(world[2, 0])
+            ux, uy, uz = float(world[0, 1]) - ax, float(world[1, 1]) - ay, float(world[2, 1]) - az
+            vx, vy, vz = float(world[0, 2]) - ax, float(world[1, 2]) - ay, float(world[2, 2]) - az
+            nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+            if (ax - px) * nx + (ay - py) * ny + (az - pz) * nz >= 0.0:  # back face
+                continue
+            draw_triangle(gl, viewport, zbuffer, colour, label, shape_label[s], width, height, vertex_normals,
+                          light, shape_rgb[s], ambient, diffuse, specular, near, far, scratch)
+
+
+@njit(cache=True, error_model="numpy")
+def _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_min_depth, out, out_label):
+    """The bodies where nearer than the hall, else the hall; rows flipped to top-to-bottom."""
+    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
+    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    for y in range(height):
+        row = height - 1 - y
+        for x in range(width):
+            source = x + y * width
+            target = x + row * width
+            z_c = -zbuffer[source]
+            depth = F32((far * (near + z_c)) / (2.0 * float(far) * float(near) + float(far * z_c) - float(near * z_c)))
+            if depth >= hall_min_depth[target]:
+                packed = hall_rgba[target]
+                out_label[target] = -1
+            else:
+                packed = colour[source]
+                out_label[target] = label[source]
+            out[row, x, 0] = packed & 0xFF
+            out[row, x, 1] = (packed >> 8) & 0xFF
+            out[row, x, 2] = (packed >> 16) & 0xFF
+
+
+@njit(cache=True, error_model="numpy")
+def _draw_one(c, out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64, hall_i64,
+              floor_colours, face_colours, banner_i, banner_f, palette, models, inverse_models, vertices, normals,
+              triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
+              light, ambient, diffuse, specular):
+    pixels = width * height
+    hall_rgba = np.empty(pixels, np.uint32)
+    hall_min_depth = np.empty(pixels, np.float32)
+    draw_hall(rotations[c], positions[c], width, height, focal, hall_f64, hall_i64, floor_colours, face_colours,
+              banner_i, banner_f, palette, hall_rgba, hall_min_depth)
+    zbuffer = np.empty(pixels, np.float32)
+    colour = np.empty(pixels, np.uint32)
+    label = np.empty(pixels, np.int32)
+    draw_bodies(views[c], projection, width, height, models, inverse_models, vertices, normals, triangles,
+                shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
+                light, ambient, diffuse, specular, zbuffer, colour, label)
+    _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_min_depth, out[c],
+           out_labels[c].reshape(-1))
+
+
+@njit(cache=True, error_model="numpy")
+def inverse_transposes(models):
+    """TinyRenderer's normal matrices (``invert_transpose``) of the model matrices (n, 4, 4)."""
+    out = np.empty_like(models)
+    for i in range(models.shape[0]):
+        out[i] = invert_transpose(models[i])
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def draw_frames(out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64, hall_i64,
+                floor_colours, face_colours, banner_i, banner_f, palette, models, vertices, normals, triangles,
+                shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
+                light, ambient, diffuse, specular):
+    """Every camera's frame (``out`` (n, h, w, 3) uint8) and pybullet-style labels (``out_labels`` (n, h, w)
+    int32, -1 where the hall shows), one camera after another."""
+    inverse_models = inverse_transposes(models)
+    for c in range(out.shape[0]):
+        _draw_one(c, out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64,
+                  hall_i64, floor_colours, face_colours, banner_i, banner_f, palette, models, inverse_models,
+                  vertices, normals, triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label,
+                  shape_centre, shape_radius, light, ambient, diffuse, specular)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def draw_frames_parallel(out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64,
+                         hall_i64, floor_colours, face_colours, banner_i, banner_f, palette, models, vertices, normals,
+                         triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre,
+                         shape_radius, light, ambient, diffuse, specular):
+    """As :func:`draw_frames`, the cameras shared among numba's threads."""
+    inverse_models = inverse_transposes(models)
+    for c in prange(out.shape[0]):
+        _draw_one(c, out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64,
+                  hall_i64, floor_colours, face_colours, banner_i, banner_f, palette, models, inverse_models,
+                  vertices, normals, triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label,
+                  shape_centre, shape_radius, light, ambient, diffuse, specular)

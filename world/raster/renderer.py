@@ -1,0 +1,96 @@
+"""The compiled renderer of a world: every camera frame of a step in one call to compiled code.
+
+It draws what TinyRenderer and the analytic hall draw (:mod:`world.rendering`), from the
+world's pybullet client: each call reads the bodies' poses once, builds each camera's view
+matrix with pybullet's own function, and hands everything to :mod:`world.raster.frames`.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pybullet as pb
+
+from world.backdrop import HallBackdrop
+from world.config import RenderConfig
+from world.raster import frames as kernels
+from world.raster.geometry import RasterGeometry, model_matrices
+from world.raster.hall import pack_tables
+from world.raster.threads import parallel_cameras
+from world.shading import material_rgb
+from world.teams import TeamColor
+
+F32 = np.float32
+
+
+@functools.lru_cache(maxsize=16)
+def projection_matrix(vertical_fov_rad: float, aspect: float, near_m: float, far_m: float) -> np.ndarray:
+    """pybullet's projection matrix (4, 4) float32, indexed [row, column]; read-only."""
+    flat = pb.computeProjectionMatrixFOV(fov=math.degrees(vertical_fov_rad), aspect=aspect, nearVal=near_m,
+                                         farVal=far_m)
+    matrix = np.asarray(flat, np.float32).reshape(4, 4).T.copy()
+    matrix.flags.writeable = False
+    return matrix
+
+
+def view_matrix(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
+    """pybullet's view matrix (4, 4) float32 [row, column] of a camera (rotation camera->world, position m)."""
+    forward, down = rotation[:, 2], rotation[:, 1]
+    flat = pb.computeViewMatrix(cameraEyePosition=position.tolist(), cameraTargetPosition=(position + forward).tolist(),
+                                cameraUpVector=(-down).tolist())
+    return np.asarray(flat, np.float32).reshape(4, 4).T
+
+
+class CompiledRenderer:
+    """Draws the cameras of one pybullet world (``client``) whose bodies ``geometry`` lists."""
+
+    def __init__(self, client: int, geometry: RasterGeometry, hall: HallBackdrop, render: RenderConfig):
+        self._client, self._geometry, self._render = client, geometry, render
+        self._hall = pack_tables(hall.tables())
+        light = np.asarray(render.light_direction, F32).astype(float)
+        self._light = (light / np.linalg.norm(light)).astype(F32)
+        self._coefficients = (F32(render.ambient), F32(render.diffuse), F32(render.specular))
+        self._rgb_of_teams: dict[tuple, np.ndarray] = {}
+        self._parallel = parallel_cameras()
+
+    def frames(
+        self,
+        cameras: Sequence[tuple[np.ndarray, np.ndarray]],
+        width_px: int,
+        height_px: int,
+        vertical_fov_rad: float,
+        teams: dict[int, TeamColor],
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """RGB images (n, h, w, 3) uint8 of cameras (rotation camera->world, position m), square pixels, and
+        each pixel's body label (n, h, w) int32 as pybullet's segmentation mask gives it (object id plus
+        (link + 1) << 24), -1 where the hall shows. ``teams`` maps each robot's body id to its team."""
+        n = len(cameras)
+        out = np.empty((n, height_px, width_px, 3), np.uint8)
+        labels = np.empty((n, height_px, width_px), np.int32)
+        if n == 0:
+            return out, labels
+        rotations = np.ascontiguousarray([np.asarray(r, np.float64) for r, _ in cameras])
+        positions = np.ascontiguousarray([np.asarray(p, np.float64) for _, p in cameras])
+        views = np.ascontiguousarray([view_matrix(r, p) for r, p in zip(rotations, positions)])
+        projection = projection_matrix(vertical_fov_rad, width_px / height_px, self._render.near_m, self._render.far_m)
+        focal = (height_px / 2.0) / math.tan(vertical_fov_rad / 2.0)
+        g = self._geometry
+        draw = kernels.draw_frames_parallel if self._parallel and n > 1 else kernels.draw_frames
+        draw(out, labels, rotations, positions, views, projection, width_px, height_px, focal, *self._hall,
+             model_matrices(self._client, g), g.vertices, g.normals, g.triangles, g.instance, g.first, g.count,
+             self._shape_rgb(teams), g.label, g.centre, g.radius, self._light, *self._coefficients)
+        return out, labels
+
+    def _shape_rgb(self, teams: dict[int, TeamColor]) -> np.ndarray:
+        """The shapes' colours with each waistband in its robot's team colour."""
+        key = tuple(sorted((body, team.value) for body, team in teams.items()))
+        rgb = self._rgb_of_teams.get(key)
+        if rgb is None:
+            rgb = self._geometry.rgb.copy()
+            for body, shape in self._geometry.team_shapes.items():
+                rgb[shape] = material_rgb(teams[body].rgba)
+            self._rgb_of_teams[key] = rgb
+        return rgb
