@@ -161,9 +161,12 @@ def compiled_overview(
     width_px: int = 640,
     height_px: int = 480,
     fov_deg: float = 62.0,
+    poses_key: object = None,
 ) -> np.ndarray:
-    """As :func:`render_overview`, drawn by the compiled renderer (``teams``: each robot body's team)."""
-    images, _ = renderer.frames([overview_pose(eye, target)], width_px, height_px, math.radians(fov_deg), teams)
+    """As :func:`render_overview`, drawn by the compiled renderer (``teams``: each robot body's team;
+    ``poses_key``: see :meth:`world.raster.renderer.CompiledRenderer.frames`)."""
+    images, _ = renderer.frames([overview_pose(eye, target)], width_px, height_px, math.radians(fov_deg), teams,
+                                fixed_camera=True, poses_key=poses_key)
     return images[0]
 
 

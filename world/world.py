@@ -111,6 +111,7 @@ class World:
         if self._client < 0:
             raise RuntimeError("could not connect to a pybullet physics server")
         self._closed = False
+        self._moves = 0  # bodies put somewhere by hand (placed, restored): with the time, what poses are
         try:
             self._build(robots, gui)
         except Exception:
@@ -193,6 +194,11 @@ class World:
         return self._ground
 
     @property
+    def compiled_renderer(self) -> CompiledRenderer | None:
+        """The compiled renderer that draws the cameras (:mod:`world.raster`); None with ``renderer='tiny'``."""
+        return self._raster
+
+    @property
     def robot_ids(self) -> tuple[str, ...]:
         return tuple(self._bodies)
 
@@ -253,6 +259,7 @@ class World:
         pb.removeState(snapshot.state_id, physicsClientId=self._client)
 
     def restore_state(self, snapshot: WorldSnapshot) -> None:
+        self._moves += 1
         self._clear_contact_caches()
         pb.restoreState(stateId=snapshot.state_id, physicsClientId=self._client)
         self.time_s = snapshot.time_s
@@ -311,6 +318,7 @@ class World:
         Clears its motion and fall state and levels its head (yaw 0, pitch 0); the camera
         position is kept. A head target takes a few steps to be reached after this.
         """
+        self._moves += 1
         body = self.body_id(robot_id)
         self._check_position(f"robot {robot_id!r} pose", pose.x, pose.y, extra=(pose.theta,))
         orientation = pb.getQuaternionFromEuler((0.0, 0.0, pose.theta))
@@ -329,6 +337,7 @@ class World:
 
     def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
         """Put the ball on the ground at (x, y) with planar velocity (vx, vy) m/s."""
+        self._moves += 1
         self._check_position("ball position", x, y, extra=(vx, vy))
         r = self.config.field.ball_radius
         pb.resetBasePositionAndOrientation(self._ball, (x, y, r), (0, 0, 0, 1), physicsClientId=self._client)
@@ -482,7 +491,8 @@ class World:
     def _compiled_frames(self, cameras: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
         cam = NAO_CAMERA
         teams = {self._bodies[rid]: team for rid, team in self._teams.items()}
-        return self._raster.frames(cameras, cam.width_px, cam.height_px, cam.vertical_fov_rad, teams)
+        return self._raster.frames(cameras, cam.width_px, cam.height_px, cam.vertical_fov_rad, teams,
+                                   poses_key=(self.time_s, self._moves))
 
     def render_workers_peak_mb(self) -> float | None:
         """The render workers' peak resident memory (MiB), summed; None without workers or where the system
@@ -516,6 +526,7 @@ class World:
 
     def set_body_poses(self, poses: BodyPoses) -> None:
         """Put every body where ``poses`` says, at rest (for a render-only copy of a world: no physics is kept)."""
+        self._moves += 1
         client = self._client
         if len(poses.robots) != len(self._bodies) or len(poses.teams) != len(self._bodies):
             raise ValueError(f"poses of {len(poses.robots)} robots for a world of {len(self._bodies)}")
@@ -603,7 +614,7 @@ class World:
         drawn once per camera pose (:mod:`world.static_scene`)."""
         if self._raster is not None:
             teams = {self._bodies[rid]: team for rid, team in self._teams.items()}
-            return rendering.compiled_overview(self._raster, teams, **kwargs)
+            return rendering.compiled_overview(self._raster, teams, poses_key=(self.time_s, self._moves), **kwargs)
         return rendering.render_overview(self._client, self.config.render, self._ground, static=self._static, **kwargs)
 
     # ---- checks ----------------------------------------------------------------------

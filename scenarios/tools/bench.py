@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numba
 import numpy as np
 import pybullet as pb
 
@@ -35,6 +36,8 @@ from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
 from world.motions import Motion
+from world.config import RENDERERS, RenderConfig, WorldConfig
+from world.raster.threads import parallel_cameras
 from world.world import World
 
 if TYPE_CHECKING:
@@ -126,17 +129,71 @@ def check_all_in_view(world: World, viewer: str, others: Sequence[str]) -> None:
 
 def bench_render(repeats: int) -> dict[str, float]:
     """One 160x120 robot camera frame with all 8 robots in the scene and 7 of them in view, each from a
-    new camera pose (:data:`RENDER_HEAD_YAWS_RAD`; the head's turn and the control step are not timed)."""
-    with World(team_roster()) as world:
-        setup_render_scene(world)
+    new camera pose (:data:`RENDER_HEAD_YAWS_RAD`; the head's turn and the control step are not timed),
+    by the compiled renderer (``render``) and, frame by frame in turn with it, by the reference
+    renderer, TinyRenderer with the analytic hall (``render_*_tiny``)."""
+    worlds = {name: World(team_roster(), WorldConfig(render=RenderConfig(renderer=name))) for name in RENDERERS}
+    try:
+        for world in worlds.values():
+            setup_render_scene(world)
+        samples = {name: np.empty(repeats) for name in worlds}
         yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
+        for i in range(RENDER_WARMUP + repeats):
+            yaw = next(yaws)
+            for name, world in worlds.items():
+                world.set_head(RENDER_VIEWER, yaw, SCAN_PITCH_RAD)
+                world.step(1)
+                start = time.perf_counter()
+                world.render_camera(RENDER_VIEWER)
+                if i >= RENDER_WARMUP:
+                    samples[name][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
+    finally:
+        for world in worlds.values():
+            world.close()
+    metrics = {**summarize("render", samples["numba"]), **_suffixed(summarize("render", samples["tiny"]), "_tiny")}
+    metrics["render_tiny_over_numba_ratio"] = metrics["render_ms_median_tiny"] / metrics["render_ms_median"]
+    return metrics
 
-        def turn_head() -> None:
-            world.set_head(RENDER_VIEWER, next(yaws), SCAN_PITCH_RAD)
-            world.step(1)
 
-        samples = time_ms(lambda: world.render_camera(RENDER_VIEWER), repeats, RENDER_WARMUP, before=turn_head)
-    return summarize("render", samples)
+def _suffixed(metrics: dict[str, float], suffix: str) -> dict[str, float]:
+    return {f"{key}{suffix}": value for key, value in metrics.items()}
+
+
+def bench_cameras(repeats: int) -> dict[str, float]:
+    """Every robot's camera frame of one step (8 cameras, :meth:`World.render_cameras`) in the scene of
+    :func:`bench_render`, each step from new head angles, by the compiled renderer on numba's threads
+    (``cameras_per_step``), on one thread (``*_serial``) and by the reference renderer (``*_tiny``), in
+    turn step by step."""
+    worlds = {name: World(team_roster(), WorldConfig(render=RenderConfig(renderer=name))) for name in RENDERERS}
+    variants = {"": ("numba", True), "_serial": ("numba", False), "_tiny": ("tiny", None)}
+    try:
+        for world in worlds.values():
+            setup_render_scene(world)
+        samples = {suffix: np.empty(repeats) for suffix in variants}
+        yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
+        for i in range(RENDER_WARMUP + repeats):
+            yaw = next(yaws)
+            for world in worlds.values():
+                for robot in world.robot_ids:
+                    world.set_head(robot, yaw, SCAN_PITCH_RAD)
+                world.step(1)
+            for suffix, (name, parallel) in variants.items():
+                world = worlds[name]
+                if world.compiled_renderer is not None:
+                    world.compiled_renderer.parallel = parallel
+                start = time.perf_counter()
+                for _ in world.render_cameras(world.robot_ids):
+                    pass
+                if i >= RENDER_WARMUP:
+                    samples[suffix][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
+    finally:
+        for world in worlds.values():
+            world.close()
+    metrics: dict[str, float] = {}
+    for suffix, values in samples.items():
+        metrics.update(_suffixed(summarize("cameras_per_step", values), suffix))
+    metrics["cameras_per_step_threads"] = float(numba.config.NUMBA_NUM_THREADS if parallel_cameras() else 1)
+    return metrics
 
 
 # ---- physics control step -----------------------------------------------------------------
@@ -518,7 +575,10 @@ def bench_agent(repeats: int) -> dict[str, float]:
 
 
 BENCHMARKS: tuple[Benchmark, ...] = (
-    Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene", bench_render),
+    Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene; beside it the reference renderer",
+              bench_render),
+    Benchmark("cameras", "all 8 camera frames of a step: on numba's threads, on one, and by the reference renderer",
+              bench_cameras),
     Benchmark("physics_step", "World.step(): one 40 ms control step, 8 walking robots + ball", bench_physics_step),
     Benchmark("env", "env.step(): 8 agents, random actions, all cameras on (and render+physics alone), then off",
               bench_env),

@@ -17,7 +17,14 @@ import numpy as np
 from numba import njit, prange
 
 from world.raster.hall import draw_hall
-from world.raster.triangles import draw_triangle, invert_transpose, mat_mul, new_scratch, transform_point
+from world.raster.triangles import (
+    draw_triangle,
+    invert_transpose,
+    mat_mul,
+    new_scratch,
+    transform_point,
+    transform_point3,
+)
 
 F32 = np.float32
 CLEAR = np.uint32(0xFFFFFFFF)  # TinyRenderer's clear colour, white
@@ -72,32 +79,31 @@ def draw_bodies(view, projection, width, height, models, inverse_models, vertice
     gl = np.empty((4, 3), np.float32)
     world = np.empty((4, 3), np.float32)
     vertex_normals = np.empty((3, 3), np.float32)
-    point = np.empty(4, np.float32)
-    scratch = new_scratch()
+    model_view = np.empty((4, 4), np.float32)
+    pmv = np.empty((4, 4), np.float32)
+    scratch = new_scratch(width)
     for s in range(shape_instance.shape[0]):
         instance = shape_instance[s]
-        model_view = mat_mul(view, models[instance])
+        model = models[instance]
+        mat_mul(view, model, model_view)
         if _outside_frustum(model_view, shape_centre[s], shape_radius[s], tan_x, tan_y, float(near), float(far)):
             continue
-        pmv = mat_mul(projection, model_view)
-        model = models[instance]
+        mat_mul(projection, model_view, pmv)
         inverse = inverse_models[instance]
         for t in range(shape_first[s], shape_first[s] + shape_count[s]):
             for j in range(3):
                 v = triangles[t, j]
-                x, y, z = vertices[v, 0], vertices[v, 1], vertices[v, 2]
-                transform_point(pmv, x, y, z, F32(1.0), point)
-                gl[:, j] = point
-                transform_point(model, x, y, z, F32(1.0), point)
-                world[:, j] = point
-                transform_point(inverse, normals[v, 0], normals[v, 1], normals[v, 2], F32(0.0), point)
-                vertex_normals[:, j] = point[:3]
+                transform_point(model, vertices[v, 0], vertices[v, 1], vertices[v, 2], F32(1.0), world, j)
             ax, ay, az = float(world[0, 0]), float(world[1, 0]), float(world[2, 0])
             ux, uy, uz = float(world[0, 1]) - ax, float(world[1, 1]) - ay, float(world[2, 1]) - az
             vx, vy, vz = float(world[0, 2]) - ax, float(world[1, 2]) - ay, float(world[2, 2]) - az
             nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
             if (ax - px) * nx + (ay - py) * ny + (az - pz) * nz >= 0.0:  # back face
                 continue
+            for j in range(3):
+                v = triangles[t, j]
+                transform_point(pmv, vertices[v, 0], vertices[v, 1], vertices[v, 2], F32(1.0), gl, j)
+                transform_point3(inverse, normals[v, 0], normals[v, 1], normals[v, 2], vertex_normals, j)
             draw_triangle(gl, viewport, zbuffer, colour, label, shape_label[s], width, height, vertex_normals,
                           light, shape_rgb[s], ambient, diffuse, specular, near, far, scratch)
 
@@ -107,13 +113,20 @@ def _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_mi
     """The bodies where nearer than the hall, else the hall; rows flipped to top-to-bottom."""
     near = projection[2, 3] / (projection[2, 2] - F32(1.0))
     far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    clear = -far  # the depth of a pixel no body covers, converted once
+    clear_depth = F32((far * (near - clear)) / (2.0 * float(far) * float(near) + float(far * -clear)
+                                                - float(near * -clear)))
     for y in range(height):
         row = height - 1 - y
         for x in range(width):
             source = x + y * width
             target = x + row * width
-            z_c = -zbuffer[source]
-            depth = F32((far * (near + z_c)) / (2.0 * float(far) * float(near) + float(far * z_c) - float(near * z_c)))
+            if zbuffer[source] == clear:
+                depth = clear_depth
+            else:
+                z_c = -zbuffer[source]
+                depth = F32((far * (near + z_c)) / (2.0 * float(far) * float(near) + float(far * z_c)
+                                                    - float(near * z_c)))
             if depth >= hall_min_depth[target]:
                 packed = hall_rgba[target]
                 out_label[target] = -1
@@ -126,22 +139,21 @@ def _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_mi
 
 
 @njit(cache=True, error_model="numpy")
-def _draw_one(c, out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64, hall_i64,
-              floor_colours, face_colours, banner_i, banner_f, palette, models, inverse_models, vertices, normals,
-              triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
-              light, ambient, diffuse, specular):
+def _draw_one(c, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views, projection,
+              width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i, banner_f, palette,
+              models, inverse_models, vertices, normals, triangles, shape_instance, shape_first, shape_count,
+              shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse, specular):
+    if not halls_given:
+        draw_hall(rotations[c], positions[c], width, height, focal, hall_f64, hall_i64, floor_colours, face_colours,
+                  banner_i, banner_f, palette, halls_rgba[c], halls_min_depth[c])
     pixels = width * height
-    hall_rgba = np.empty(pixels, np.uint32)
-    hall_min_depth = np.empty(pixels, np.float32)
-    draw_hall(rotations[c], positions[c], width, height, focal, hall_f64, hall_i64, floor_colours, face_colours,
-              banner_i, banner_f, palette, hall_rgba, hall_min_depth)
     zbuffer = np.empty(pixels, np.float32)
     colour = np.empty(pixels, np.uint32)
     label = np.empty(pixels, np.int32)
     draw_bodies(views[c], projection, width, height, models, inverse_models, vertices, normals, triangles,
                 shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
                 light, ambient, diffuse, specular, zbuffer, colour, label)
-    _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_min_depth, out[c],
+    _merge(width, height, projection, zbuffer, colour, label, halls_rgba[c], halls_min_depth[c], out[c],
            out_labels[c].reshape(-1))
 
 
@@ -155,29 +167,33 @@ def inverse_transposes(models):
 
 
 @njit(cache=True, error_model="numpy")
-def draw_frames(out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64, hall_i64,
-                floor_colours, face_colours, banner_i, banner_f, palette, models, vertices, normals, triangles,
-                shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
-                light, ambient, diffuse, specular):
+def draw_frames(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views, projection,
+                width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i, banner_f, palette,
+                models, vertices, normals, triangles, shape_instance, shape_first, shape_count, shape_rgb,
+                shape_label, shape_centre, shape_radius, light, ambient, diffuse, specular):
     """Every camera's frame (``out`` (n, h, w, 3) uint8) and pybullet-style labels (``out_labels`` (n, h, w)
-    int32, -1 where the hall shows), one camera after another."""
+    int32, -1 where the hall shows), one camera after another. ``halls_*`` (n, h*w): each camera's hall,
+    drawn here unless ``halls_given``."""
     inverse_models = inverse_transposes(models)
     for c in range(out.shape[0]):
-        _draw_one(c, out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64,
-                  hall_i64, floor_colours, face_colours, banner_i, banner_f, palette, models, inverse_models,
-                  vertices, normals, triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label,
-                  shape_centre, shape_radius, light, ambient, diffuse, specular)
+        _draw_one(c, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
+                  projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
+                  banner_f, palette, models, inverse_models, vertices, normals, triangles, shape_instance,
+                  shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient,
+                  diffuse, specular)
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def draw_frames_parallel(out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64,
-                         hall_i64, floor_colours, face_colours, banner_i, banner_f, palette, models, vertices, normals,
-                         triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre,
-                         shape_radius, light, ambient, diffuse, specular):
+def draw_frames_parallel(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
+                         projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
+                         banner_f, palette, models, vertices, normals, triangles, shape_instance, shape_first,
+                         shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse,
+                         specular):
     """As :func:`draw_frames`, the cameras shared among numba's threads."""
     inverse_models = inverse_transposes(models)
     for c in prange(out.shape[0]):
-        _draw_one(c, out, out_labels, rotations, positions, views, projection, width, height, focal, hall_f64,
-                  hall_i64, floor_colours, face_colours, banner_i, banner_f, palette, models, inverse_models,
-                  vertices, normals, triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label,
-                  shape_centre, shape_radius, light, ambient, diffuse, specular)
+        _draw_one(c, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
+                  projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
+                  banner_f, palette, models, inverse_models, vertices, normals, triangles, shape_instance,
+                  shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient,
+                  diffuse, specular)

@@ -41,7 +41,9 @@ class RasterGeometry:
     concatenated; shape ``s`` is triangles ``first[s]:first[s] + count[s]`` of instance
     ``instance[s]``, coloured ``rgb[s]`` (uint8), labelled ``label[s]``, and lies within
     ``radius[s]`` m of ``centre[s]`` (instance frame). ``team_shapes`` maps a robot's body to its
-    waistband shape, whose colour is the robot's team's.
+    waistband shape, whose colour is the robot's team's. ``static_models`` (i, 4, 4) float32 holds the
+    model matrices of the instances that never move; the others are ``moving``, as (body, links)
+    whose poses are read base first then links, filling the instances ``moving_instances`` in order.
     """
 
     vertices: np.ndarray
@@ -55,7 +57,9 @@ class RasterGeometry:
     centre: np.ndarray
     radius: np.ndarray
     instances: tuple[Instance, ...]
-    static_models: dict[int, np.ndarray]
+    static_models: np.ndarray
+    moving: tuple[tuple[int, tuple[int, ...]], ...]
+    moving_instances: np.ndarray
     team_shapes: dict[int, int]
 
 
@@ -75,7 +79,7 @@ class _Builder:
         self.rows.append((self.instances.index(instance), rgb, body + ((link + 1) << 24)))
         return len(self.rows) - 1
 
-    def build(self, static_models: dict[int, np.ndarray]) -> RasterGeometry:
+    def build(self, static_bodies: set[int]) -> RasterGeometry:
         counts = np.array([len(m.triangles) for m in self.meshes], np.int64)
         merged = Mesh.concatenate(self.meshes)
         centres, radii = [], []
@@ -84,6 +88,16 @@ class _Builder:
             centre = (low + high) / 2.0
             centres.append(centre)
             radii.append(float(np.linalg.norm(mesh.vertices.astype(float) - centre, axis=1).max()))
+        static_models = np.tile(np.eye(4, dtype=np.float32), (len(self.instances), 1, 1))
+        moving, moving_instances = [], []
+        for body in dict.fromkeys(instance.body for instance in self.instances if instance.body not in static_bodies):
+            links = [(i, instance.link) for i, instance in enumerate(self.instances)
+                     if instance.body == body and instance.link != BASE]
+            base = [i for i, instance in enumerate(self.instances) if instance == Instance(body, BASE)]
+            if len(base) != 1:
+                raise ValueError(f"body {body} is drawn without its base: the renderer reads links after the base")
+            moving.append((body, tuple(link for _, link in links)))
+            moving_instances += base + [i for i, _ in links]
         return RasterGeometry(
             vertices=merged.vertices, normals=merged.normals, triangles=merged.triangles.astype(np.int64),
             instance=np.array([row[0] for row in self.rows], np.int64),
@@ -91,7 +105,8 @@ class _Builder:
             rgb=np.array([row[1] for row in self.rows], np.uint8).reshape(-1, 3),
             label=np.array([row[2] for row in self.rows], np.int32),
             centre=np.array(centres, np.float64).reshape(-1, 3), radius=np.array(radii, np.float64),
-            instances=tuple(self.instances), static_models=static_models, team_shapes=dict(self.team_shapes),
+            instances=tuple(self.instances), static_models=static_models, moving=tuple(moving),
+            moving_instances=np.array(moving_instances, np.int64), team_shapes=dict(self.team_shapes),
         )
 
 
@@ -107,50 +122,39 @@ def raster_geometry(field: FieldGeometry, ball: int, robots: dict[int, TeamColor
             shape = builder.add(body, link, box_mesh(half_extents), team.rgba if waistband else rgba)
             if waistband:
                 builder.team_shapes[body] = shape
-    static = {}
     for color, body in goals.items():
         builder.add(body, BASE, goal_mesh(field, color), GOAL_RGBA[color])
-        static[len(builder.instances) - 1] = np.eye(4, dtype=np.float32)
-    return builder.build(static)
+    return builder.build(set(goals.values()))  # the goals stand at the origin, unturned
 
 
-def quaternion_matrices(quaternions: np.ndarray) -> np.ndarray:
-    """Rotation matrices (n, 3, 3) of quaternions (n, 4) x, y, z, w, as Bullet's ``setRotation`` computes them."""
-    x, y, z, w = (quaternions[:, k] for k in range(4))
+def quaternion_matrices(quaternions: np.ndarray, out: np.ndarray) -> None:
+    """Rotation matrices into ``out`` (n, >=3, >=3) of quaternions (n, 4) x, y, z, w, as Bullet's
+    ``setRotation`` computes them."""
+    x, y, z, w = quaternions[:, 0], quaternions[:, 1], quaternions[:, 2], quaternions[:, 3]
     s = 2.0 / (x * x + y * y + z * z + w * w)
     xs, ys, zs = x * s, y * s, z * s
     wx, wy, wz = w * xs, w * ys, w * zs
     xx, xy, xz = x * xs, x * ys, x * zs
     yy, yz, zz = y * ys, y * zs, z * zs
-    return np.stack([
-        np.stack([1.0 - (yy + zz), xy - wz, xz + wy], axis=1),
-        np.stack([xy + wz, 1.0 - (xx + zz), yz - wx], axis=1),
-        np.stack([xz - wy, yz + wx, 1.0 - (xx + yy)], axis=1),
-    ], axis=1)
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = 1.0 - (yy + zz), xy - wz, xz + wy
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = xy + wz, 1.0 - (xx + zz), yz - wx
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = xz - wy, yz + wx, 1.0 - (xx + yy)
 
 
 def model_matrices(client: int, geometry: RasterGeometry) -> np.ndarray:
     """Every instance's model matrix now (n, 4, 4) float32: its centre-of-mass pose in the world."""
-    positions = np.zeros((len(geometry.instances), 3))
-    quaternions = np.tile([0.0, 0.0, 0.0, 1.0], (len(geometry.instances), 1))
-    links_of: dict[int, list[tuple[int, int]]] = {}
-    for index, instance in enumerate(geometry.instances):
-        if index in geometry.static_models:
-            continue
-        if instance.link == BASE:
-            position, orientation = pb.getBasePositionAndOrientation(instance.body, physicsClientId=client)
-            positions[index], quaternions[index] = position, orientation
-        else:
-            links_of.setdefault(instance.body, []).append((index, instance.link))
-    for body, links in links_of.items():
-        states = pb.getLinkStates(body, [link for _, link in links], computeForwardKinematics=True,
-                                  physicsClientId=client)
-        for (index, _), state in zip(links, states):
-            positions[index], quaternions[index] = state[0], state[1]
-    models = np.zeros((len(geometry.instances), 4, 4))
-    models[:, :3, :3] = quaternion_matrices(quaternions)
-    models[:, :3, 3] = positions
-    models[:, 3, 3] = 1.0
-    for index, matrix in geometry.static_models.items():
-        models[index] = matrix
-    return models.astype(np.float32)
+    poses = []  # (position, orientation) of the moving instances, in the order of geometry.moving
+    for body, links in geometry.moving:
+        poses.append(pb.getBasePositionAndOrientation(body, physicsClientId=client))
+        if links:
+            poses += [state[:2] for state in pb.getLinkStates(body, links, computeForwardKinematics=True,
+                                                              physicsClientId=client)]
+    flat = np.array([(*position, *orientation) for position, orientation in poses])
+    moving = np.empty((len(poses), 4, 4))
+    quaternion_matrices(flat[:, 3:], moving)
+    moving[:, :3, 3] = flat[:, :3]
+    moving[:, 3, :3] = 0.0
+    moving[:, 3, 3] = 1.0
+    models = geometry.static_models.copy()
+    models[geometry.moving_instances] = moving
+    return models

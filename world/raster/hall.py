@@ -24,28 +24,39 @@ NEG_INF = -math.inf
 def _ground(rotation, position, width, height, focal, near, far, corner_x, corner_y, carpet_half_x,
             carpet_half_y, texel_m, pad_columns, pad_rows, floor_rows, floor_columns, depth, texel):
     """Depth (m, along the optical axis) at which each pixel centre's ray meets the floor (+inf where it
-    does not, within near-far), and the flat index of the floor texel there."""
+    does not, within near-far), and the flat index of the floor texel there (0 where there is none).
+
+    Each row is computed in two passes: the arithmetic of all its pixels (which the compiler can
+    vectorise), then the tests; rows whose rays all point up are skipped."""
+    depth[:] = np.inf
+    texel[:] = 0
     if position[2] <= 0.0:
-        depth[:] = np.inf
-        texel[:] = 0
         return
+    column_slope = np.empty(width)
+    for i in range(width):
+        column_slope[i] = (i + 0.5 - width / 2) / focal
+    d = np.empty(width)
+    x = np.empty(width)
+    y = np.empty(width)
     for r in range(height):
         ry = (r + 0.5 - height / 2) / focal
+        down_row, x_row, y_row = ry * rotation[2, 1], ry * rotation[0, 1], ry * rotation[1, 1]
+        left = (column_slope[0] * rotation[2, 0] + down_row) + rotation[2, 2]
+        right = (column_slope[width - 1] * rotation[2, 0] + down_row) + rotation[2, 2]
+        if left > 1e-9 and right > 1e-9:  # every ray of the row points up
+            continue
         for i in range(width):
-            rx = (i + 0.5 - width / 2) / focal
-            down = rx * rotation[2, 0] + ry * rotation[2, 1] + rotation[2, 2]
-            d = -position[2] / down
-            x = position[0] + d * (rx * rotation[0, 0] + ry * rotation[0, 1] + rotation[0, 2])
-            y = position[1] + d * (rx * rotation[1, 0] + ry * rotation[1, 1] + rotation[1, 2])
-            k = r * width + i
-            if d > near and d < far and abs(x) < corner_x and abs(y) < corner_y:
-                depth[k] = d
-                column = min(np.int32((x + carpet_half_x) / texel_m + pad_columns), floor_columns - 1)
-                row = min(np.int32((carpet_half_y - y) / texel_m + pad_rows), floor_rows - 1)
+            rx = column_slope[i]
+            d[i] = -position[2] / ((rx * rotation[2, 0] + down_row) + rotation[2, 2])
+            x[i] = position[0] + d[i] * ((rx * rotation[0, 0] + x_row) + rotation[0, 2])
+            y[i] = position[1] + d[i] * ((rx * rotation[1, 0] + y_row) + rotation[1, 2])
+        for i in range(width):
+            if d[i] > near and d[i] < far and abs(x[i]) < corner_x and abs(y[i]) < corner_y:
+                k = r * width + i
+                depth[k] = d[i]
+                column = min(np.int32((x[i] + carpet_half_x) / texel_m + pad_columns), floor_columns - 1)
+                row = min(np.int32((carpet_half_y - y[i]) / texel_m + pad_rows), floor_rows - 1)
                 texel[k] = row * floor_columns + column
-            else:
-                depth[k] = np.inf
-                texel[k] = 0
 
 
 @njit(cache=True, error_model="numpy")

@@ -20,6 +20,8 @@ import numpy as np
 from numba import njit
 
 F32 = np.float32
+FLAT_MARGIN = 1e-2  # how far from a whole number a flat face's channel must be to be shaded once (see _flat_colour)
+SPAN_MARGIN_PX = 0.01  # rounding moves a span's ends by some 1e-9 px; a hundredth of a pixel is far beyond it
 
 
 @njit(cache=True, inline="always")
@@ -34,13 +36,11 @@ def dot4(a0, a1, a2, a3, b0, b1, b2, b3):
 
 
 @njit(cache=True)
-def mat_mul(a, b):
-    """The product of two (4, 4) float32 matrices, each element summed as :func:`dot4`."""
-    out = np.empty((4, 4), np.float32)
+def mat_mul(a, b, out):
+    """``out[:] = a @ b`` for (4, 4) float32 matrices, each element summed as :func:`dot4`."""
     for i in range(4):
         for j in range(4):
             out[i, j] = dot4(a[i, 0], a[i, 1], a[i, 2], a[i, 3], b[0, j], b[1, j], b[2, j], b[3, j])
-    return out
 
 
 @njit(cache=True, inline="always")
@@ -96,11 +96,18 @@ def invert_transpose(m):
     return out
 
 
-@njit(cache=True)
-def transform_point(m, x, y, z, w, out):
-    """``out[:] = m @ (x, y, z, w)`` summed as :func:`dot4`."""
+@njit(cache=True, inline="always")
+def transform_point(m, x, y, z, w, out, column):
+    """``out[:, column] = m @ (x, y, z, w)`` summed as :func:`dot4`."""
     for i in range(4):
-        out[i] = dot4(m[i, 0], m[i, 1], m[i, 2], m[i, 3], x, y, z, w)
+        out[i, column] = dot4(m[i, 0], m[i, 1], m[i, 2], m[i, 3], x, y, z, w)
+
+
+@njit(cache=True, inline="always")
+def transform_point3(m, x, y, z, out, column):
+    """``out[:, column]`` = the first three rows of ``m @ (x, y, z, 0)`` (a direction), summed as :func:`dot4`."""
+    for i in range(3):
+        out[i, column] = dot4(m[i, 0], m[i, 1], m[i, 2], m[i, 3], x, y, z, F32(0.0))
 
 
 @njit(cache=True)
@@ -163,7 +170,7 @@ def shade(normals, bar0, bar1, bar2, light, rgb, ambient, diffuse_coefficient, s
         out[i] = min(channel, 255)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, label_value, width, height,
                     normals, light, rgb, ambient, diffuse_coefficient, specular_coefficient, near, far, scratch):
     """Draw one clip-space triangle (4, 3) into the float32 depth buffer ``zbuffer`` (h*w, larger is nearer),
@@ -174,10 +181,11 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
     :func:`new_scratch`.
 
     TinyRenderer tests every point of the triangle's bounding box; here each row's points are first
-    narrowed to the span the triangle's edges allow, widened by a pixel (a point outside it fails
-    TinyRenderer's test by far more than its rounding), then tested exactly as TinyRenderer tests them.
+    narrowed to the span the triangle's edges allow, widened by :data:`SPAN_MARGIN_PX` (a point outside
+    it fails TinyRenderer's test by far more than its rounding), then tested exactly as TinyRenderer
+    tests them.
     """
-    screen, points, org_screen, org_points, rgba = scratch
+    screen, points, org_screen, org_points, rgba, row = scratch
     _screen(viewport, clip, screen, points)
     if clipped:
         _screen(viewport, original, org_screen, org_points)
@@ -198,6 +206,7 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
     if not abs(area) > 1e-2:
         return
     side = 1.0 if area > 0.0 else -1.0
+    flat = not clipped and _flat_colour(normals, light, rgb, ambient, diffuse_coefficient, specular_coefficient, rgba)
     z0, z1, z2 = float(clip[2, 0]), float(clip[2, 1]), float(clip[2, 2])
     w0, w1, w2 = float(screen[0, 3]), float(screen[1, 3]), float(screen[2, 3])
     first_x, last_x = int(lo_x), int(hi_x)
@@ -210,27 +219,22 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
         for a, b in ((a_x, b_x), (a_y, b_y), (-(a_x + a_y), area - b_x - b_y)):
             a, b = a * side, b * side
             if a > 0.0:
-                start = max(start, -b / a - 1.0)
+                start = max(start, -b / a - SPAN_MARGIN_PX)
             elif a < 0.0:
-                stop = min(stop, -b / a + 1.0)
-            elif b < -1.0:
+                stop = min(stop, -b / a + SPAN_MARGIN_PX)
+            elif b < -SPAN_MARGIN_PX:
                 stop = -1.0
         if not start <= stop:
             continue
-        for px in range(int(math.ceil(start)), int(math.floor(stop)) + 1):
-            b0, b1, b2 = _barycentric(points[0, 0], points[0, 1], points[1, 0], points[1, 1],
-                                      points[2, 0], points[2, 1], F32(px), F32(py))
-            c0, c1, c2 = b0 / w0, b1 / w1, b2 / w2
-            total = c0 + c1 + c2
-            c0, c1, c2 = c0 / total, c1 / total, c2 / total
-            depth = 0.0
-            depth += z2 * c2
-            depth += z1 * c1
-            depth += z0 * c0
-            depth = -1.0 * depth
+        x0, x1 = int(math.ceil(start)), int(math.floor(stop))
+        _row_coordinates(x0, x1, py, ax, ay, s0x, s0y, s1x, s1y, area, w0, w1, w2, z0, z1, z2, row)
+        for j in range(x1 - x0 + 1):
+            px = x0 + j
+            depth = row[6, j]
             index = px + py * width
-            if b0 < 0 or b1 < 0 or b2 < 0 or float(zbuffer[index]) > depth:
+            if row[0, j] < 0 or row[1, j] < 0 or row[2, j] < 0 or float(zbuffer[index]) > depth:
                 continue
+            c0, c1, c2 = row[3, j], row[4, j], row[5, j]
             if clipped:
                 o0, o1, o2 = _barycentric(org_points[0, 0], org_points[0, 1], org_points[1, 0], org_points[1, 1],
                                           org_points[2, 0], org_points[2, 1], F32(px), F32(py))
@@ -239,19 +243,70 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
                 c0, c1, c2 = c0 / total, c1 / total, c2 / total
             elif depth < -float(far) or depth > float(near):
                 continue
-            shade(normals, F32(c0), F32(c1), F32(c2), light, rgb, ambient, diffuse_coefficient,
-                  specular_coefficient, rgba)
+            if not flat:
+                shade(normals, F32(c0), F32(c1), F32(c2), light, rgb, ambient, diffuse_coefficient,
+                      specular_coefficient, rgba)
             zbuffer[index] = F32(depth)
             colour[index] = np.uint32(rgba[0]) | (np.uint32(rgba[1]) << 8) | (np.uint32(rgba[2]) << 16) | np.uint32(0xFF000000)
             label[index] = label_value
 
 
+@njit(cache=True, error_model="numpy")
+def _flat_colour(normals, light, rgb, ambient, diffuse_coefficient, specular_coefficient, out):
+    """Whether every fragment of a face whose three vertex normals are equal gets one colour, which is then
+    in ``out``.
+
+    :func:`shade` normalises the same direction at every fragment, so its Lambert term varies only in
+    its last bits (about 1e-6), and a channel's value by some 1e-4: where every channel lies farther
+    than :data:`FLAT_MARGIN` from a whole number, truncation gives every fragment the colour computed
+    here once, in float64. Elsewhere (or with a specular term) each fragment is shaded."""
+    if specular_coefficient != F32(0.0):
+        return False
+    for i in range(3):
+        if normals[i, 0] != normals[i, 1] or normals[i, 0] != normals[i, 2]:
+            return False
+    n0, n1, n2 = float(normals[0, 0]), float(normals[1, 0]), float(normals[2, 0])
+    length = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    lambert = max(0.0, (n0 * float(light[0]) + n1 * float(light[1]) + n2 * float(light[2])) / length)
+    for i in range(3):
+        c = float(rgb[i])
+        value = float(ambient) * c + float(diffuse_coefficient) * lambert * c
+        whole = math.floor(value)
+        if not (value - whole > FLAT_MARGIN and whole + 1.0 - value > FLAT_MARGIN):
+            return False
+        out[i] = min(int(whole), 255)
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _row_coordinates(x0, x1, py, ax, ay, s0x, s0y, s1x, s1y, area, w0, w1, w2, z0, z1, z2, row):
+    """TinyRenderer's coordinates of the points ``x0..x1`` of screen row ``py``, as :func:`_barycentric` and
+    its caller compute them, into ``row`` (7, w): screen barycentrics (3), perspective-correct ones (3) and
+    the fragment depth. No branches: the compiler can vectorise it."""
+    dy = ay - float(F32(py))
+    for j in range(x1 - x0 + 1):
+        dx = ax - float(F32(x0 + j))
+        ux = s0y * dy - dx * s1y
+        uy = dx * s1x - s0x * dy
+        b0, b1, b2 = 1.0 - (ux + uy) / area, uy / area, ux / area
+        c0, c1, c2 = b0 / w0, b1 / w1, b2 / w2
+        total = c0 + c1 + c2
+        c0, c1, c2 = c0 / total, c1 / total, c2 / total
+        depth = 0.0
+        depth += z2 * c2
+        depth += z1 * c1
+        depth += z0 * c0
+        row[0, j], row[1, j], row[2, j] = b0, b1, b2
+        row[3, j], row[4, j], row[5, j] = c0, c1, c2
+        row[6, j] = -1.0 * depth
+
+
 @njit(cache=True)
-def new_scratch():
-    """Work arrays of :func:`raster_triangle`: screen points and projections of a triangle and of the
-    triangle it was clipped from, and a fragment's colour."""
+def new_scratch(width):
+    """Work arrays of :func:`raster_triangle` for images ``width`` pixels wide: screen points and projections
+    of a triangle and of the triangle it was clipped from, a fragment's colour, a row's coordinates."""
     return (np.empty((3, 4), np.float32), np.empty((3, 2), np.float32), np.empty((3, 4), np.float32),
-            np.empty((3, 2), np.float32), np.empty(3, np.uint8))
+            np.empty((3, 2), np.float32), np.empty(3, np.uint8), np.empty((7, width), np.float64))
 
 
 @njit(cache=True)
@@ -279,7 +334,7 @@ def _clip_edge(tri, a, b, out, count):
     return count + 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def draw_triangle(tri, viewport, zbuffer, colour, label, label_value, width, height, normals, light, rgb,
                   ambient, diffuse_coefficient, specular_coefficient, near, far, scratch):
     """Clip a triangle (4, 3) against the near plane as TinyRenderer does, then draw what is left."""
