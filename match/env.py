@@ -26,7 +26,6 @@ from match.env_state import global_state, state_space
 from match.errors import EnvClosedError, MatchConfigError, StepRefusedError, UnknownAgentError, shown
 from match.game import Match, MatchConfig
 from match.protocol.spaces import action_space, observation_space
-from world.world import MAX_RENDER_WORKERS
 
 log = logging.getLogger(__name__)
 
@@ -45,10 +44,6 @@ class RobotStadiumEnv(ParallelEnv):
     and its own physics world, not a snapshot: it must be ``reset()`` before ``step``, its
     action spaces are seeded as at construction, and its ``reset()`` without a seed draws the
     seed the original's next ``reset()`` without a seed would draw.
-
-    ``render_workers``: processes that draw some of each step's camera frames while the env's
-    process draws the others (:mod:`world.render_workers`): the same observations, sooner when
-    a core is free (keep 0 when several envs already share the cores).
     """
 
     metadata = {"name": "robotstadium_v0", "render_modes": ["rgb_array"], "render_fps": 25, "is_parallelizable": True}
@@ -63,11 +58,7 @@ class RobotStadiumEnv(ParallelEnv):
         render_mode: str | None = None,
         privileged: bool = False,
         config: MatchConfig | None = None,
-        render_workers: int = 0,
     ):
-        if type(render_workers) is not int or not 0 <= render_workers <= MAX_RENDER_WORKERS:
-            raise MatchConfigError(f"render_workers {shown(render_workers)}; expected an integer "
-                                   f"0-{MAX_RENDER_WORKERS} (processes that draw camera frames beside the env's)")
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise MatchConfigError(
                 f"render_mode {render_mode!r}; expected None or one of {self.metadata['render_modes']}"
@@ -83,13 +74,12 @@ class RobotStadiumEnv(ParallelEnv):
             "render_mode": render_mode,
             "privileged": privileged,
             "config": config,
-            "render_workers": render_workers,
         }
         config = config or MatchConfig()
         config = replace(config, home_players=home_players, away_players=away_players)
         if half_seconds is not None:
             config = replace(config, referee=replace(config.referee, half_seconds=half_seconds))
-        self.match = Match(config, render_workers=render_workers)
+        self.match = Match(config)
         self.possible_agents = list(self.match.agent_names)
         self.agents: list[str] = []
         self.max_cycles = max_cycles

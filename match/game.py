@@ -79,15 +79,13 @@ class StepResult:
 class Match:
     """A match between two teams of 1-4 robots. Build once, :meth:`reset` for every new match."""
 
-    def __init__(self, config: MatchConfig | None = None, *, gui: bool = False, render_workers: int = 0):
-        """``render_workers``: processes that draw some of each step's camera frames while this one draws the
-        others (:mod:`world.render_workers`; the same images, sooner on more than one core)."""
+    def __init__(self, config: MatchConfig | None = None, *, gui: bool = False):
         self.config = config or MatchConfig()
         self.agents: tuple[AgentId, ...] = self.config.agents
         self.agent_names: tuple[str, ...] = tuple(str(a) for a in self.agents)
         self._by_name = dict(zip(self.agent_names, self.agents))
         specs = [RobotSpec(str(a), TeamColor.BLUE if a.side is Side.HOME else TeamColor.RED) for a in self.agents]
-        self.world = World(specs, self.config.world, gui=gui, render_workers=render_workers)
+        self.world = World(specs, self.config.world, gui=gui)
         self.referee = Referee(self.world, self.agents, self.config.referee)
         self.radio = Radio(self.agents, self.config.radio, self.config.world.physics.control_step_s)
         self.step_index = 0

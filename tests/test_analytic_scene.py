@@ -1,6 +1,6 @@
 """The analytically drawn scene (ground, walls, banners, roof) matches TinyRenderer's own drawing.
 
-Two worlds hold the same robots and ball: one draws the static scene in numpy
+Two worlds with the reference renderer (TinyRenderer) hold the same robots and ball: one draws the static scene in numpy
 (:mod:`world.ground`, :mod:`world.backdrop`), the other with TinyRenderer
 (``RenderConfig(analytic_ground=False, renderer="tiny")``). Their images must be the same pixel for pixel,
 except at edges: the ground is sampled at pixel centres, half a pixel from TinyRenderer's
@@ -57,7 +57,7 @@ def _world(render: RenderConfig) -> World:
 
 @pytest.fixture(scope="module")
 def worlds():
-    analytic, reference = _world(RenderConfig()), _world(RenderConfig(analytic_ground=False, renderer="tiny"))
+    analytic, reference = _world(RenderConfig(renderer="tiny")), _world(RenderConfig(analytic_ground=False, renderer="tiny"))
     yield analytic, reference
     analytic.close()
     reference.close()

@@ -45,7 +45,6 @@ TABLE = [
     (["match"], "--controller-per", ("squad", "")),
     (["match"], "--step-budget", ("0", "3601", *BAD_NUMBERS)),
     (["match"], "--controller-memory", ("63", "1e7", *BAD_NUMBERS)),
-    (["match"], "--render-workers", ("5", *BAD_COUNTS)),
     (["calibrate-colors", "--out", "t.json"], "--frames", ("0", "2001", *BAD_COUNTS)),
     (["calibrate-colors", "--out", "t.json"], "--seed", BAD_SEEDS),
     (["calibrate-colors"], "--out", BAD_FILES),
@@ -76,7 +75,6 @@ TABLE = [
     (["tournament", "scripted", "stand", "--out", "out"], "--controller-per", ("squad", "")),
     (["tournament", "scripted", "stand", "--out", "out"], "--step-budget", ("0", "3601", *BAD_NUMBERS)),
     (["tournament", "scripted", "stand", "--out", "out"], "--controller-memory", ("63", "1e7", *BAD_NUMBERS)),
-    (["tournament", "scripted", "stand", "--out", "out"], "--render-workers", ("5", *BAD_COUNTS)),
     (["replay", "match"], "--out", BAD_FILES),
     (["replay", "match"], "--stride", ("0", "100001", *BAD_COUNTS)),
 ]

@@ -13,22 +13,9 @@ from world.field import FIELD, LandmarkId, Pose2D
 
 pytestmark = pytest.mark.render
 
-MARKER_RGBA = (1.0, 0.0, 1.0, 1.0)
-MARKER_HALF_M = 0.02
-
-
-@pytest.fixture
-def marker(world):
-    """A small magenta cube whose centre can be moved to any point."""
-    client = world.client
-    visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=[MARKER_HALF_M] * 3, rgbaColor=MARKER_RGBA, physicsClientId=client)
-    body = pb.createMultiBody(0, -1, visual, basePosition=(0, 0, -5), physicsClientId=client)
-    yield body
-    pb.removeBody(body, physicsClientId=client)
-
-
-def _marker_centroid(image: np.ndarray) -> tuple[float, float] | None:
-    mask = (image[:, :, 0] > 150) & (image[:, :, 1] < 60) & (image[:, :, 2] > 150)
+def _ball_centroid(image: np.ndarray) -> tuple[float, float] | None:
+    r, g, b = (image[:, :, k].astype(int) for k in range(3))
+    mask = (r > 150) & (g * 10 > 4 * r) & (g * 10 < 7 * r) & (b < 40)  # orange: green 0.55 of red
     if mask.sum() < 4:
         return None
     rows, cols = np.nonzero(mask)
@@ -47,21 +34,21 @@ CASES = [
 
 
 @pytest.mark.parametrize("pose, yaw_deg, pitch_deg, camera, landmark_id", CASES)
-def test_landmark_pixel_matches_pinhole_model(world, marker, pose, yaw_deg, pitch_deg, camera, landmark_id):
+def test_landmark_pixel_matches_pinhole_model(world, pose, yaw_deg, pitch_deg, camera, landmark_id):
+    """The ball put on a landmark is drawn where the pinhole model projects its centre."""
     world.place_robot("a", pose)
     world.place_robot("b", Pose2D(-3.5, 3.0, 0.0))
-    world.place_ball(3.5, -3.0)
     world.set_head("a", math.radians(yaw_deg), math.radians(pitch_deg))
     world.set_camera("a", camera)
     world.step(15)
     landmark = FIELD.landmark(landmark_id)
-    point = np.array([landmark.x, landmark.y, MARKER_HALF_M])
-    pb.resetBasePositionAndOrientation(marker, point.tolist(), (0, 0, 0, 1), physicsClientId=world.client)
+    world.place_ball(landmark.x, landmark.y)
+    point = np.array([landmark.x, landmark.y, FIELD.ball_radius])
     rotation, position = world.camera_pose("a")
     predicted = NAO_CAMERA.project(world_to_camera(point, rotation, position))[0]
     assert NAO_CAMERA.in_image(predicted[None])[0], f"test case does not look at {landmark_id}: {predicted}"
-    rendered = _marker_centroid(world.render_camera("a"))
-    assert rendered is not None, "marker not visible"
+    rendered = _ball_centroid(world.render_camera("a"))
+    assert rendered is not None, "ball not visible"
     assert abs(rendered[0] - predicted[0]) <= 1.0 and abs(rendered[1] - predicted[1]) <= 1.0, (rendered, predicted)
 
 

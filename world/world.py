@@ -27,7 +27,7 @@ from world.ground import GroundRenderer
 from world.gaits import STANDING
 from world.locomotion import LocomotionController, MotionStatus, head_limits_check, torso_heading
 from world.motions import Motion
-from world.render_workers import BodyPoses, RenderWorker, RenderWorkerError
+from world.body_poses import BodyPoses
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
 from world.raster.geometry import raster_geometry
 from world.raster.renderer import CompiledRenderer
@@ -47,7 +47,6 @@ from world.sensors import (
 log = logging.getLogger(__name__)
 
 MAX_ROBOTS = 8
-MAX_RENDER_WORKERS = 4
 
 
 @dataclass(frozen=True)
@@ -85,8 +84,6 @@ class World:
     ``robots`` fixes the roster for the world's life (the scene is built once; reset
     restores a saved state). ``seed`` seeds the generator of motion noise; pass a
     ``numpy.random.Generator`` to :meth:`reset` to share a match's generator.
-    ``render_workers``: processes with a render-only copy of the world that draw some of the
-    frames of :meth:`render_cameras` (:mod:`world.render_workers`); :meth:`close` stops them.
     """
 
     def __init__(
@@ -96,14 +93,8 @@ class World:
         *,
         gui: bool = False,
         seed: int = 0,
-        render_workers: int = 0,
     ):
         self.config = config or WorldConfig()
-        if type(render_workers) is not int or not 0 <= render_workers <= MAX_RENDER_WORKERS:
-            raise ValueError(f"render_workers = {render_workers!r}; expected an integer 0-{MAX_RENDER_WORKERS}")
-        if gui and render_workers:
-            raise ValueError("render_workers with gui: the window's world draws its hall with TinyRenderer, "
-                             "the workers' do not; expected render_workers = 0")
         ids = [spec.robot_id for spec in robots]
         if len(ids) > MAX_ROBOTS or len(set(ids)) != len(ids):
             raise ValueError(f"robots must be at most {MAX_ROBOTS} with unique ids; got {ids}")
@@ -120,7 +111,6 @@ class World:
         self.rng = np.random.default_rng(seed)
         self._draw_imu_bias()
         self._initial = self.save_state()
-        self._render_workers = [RenderWorker(robots, self.config, slots=len(robots)) for _ in range(render_workers)]
 
     # ---- construction ---------------------------------------------------------------
 
@@ -293,7 +283,6 @@ class World:
     def close(self) -> None:
         if not self._closed:
             self._closed = True
-            self._stop_render_workers()
             if getattr(self, "_static", None) is not None:
                 self._static.close()
             pb.disconnect(physicsClientId=self._client)
@@ -436,40 +425,14 @@ class World:
         )
 
     def render_cameras(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
-        """Each robot's camera image (as :meth:`render_camera`), as ``(robot_id, image)`` pairs in a fixed order.
-
-        With render workers the first robots' frames are drawn by the workers while this
-        process draws the last ones, which come first; then the workers', in ``robot_ids``
-        order. A worker that fails is stopped, with the others, and its frames drawn here.
-        """
+        """Each robot's camera image (as :meth:`render_camera`), as ``(robot_id, image)`` pairs in
+        ``robot_ids`` order; the compiled renderer draws them all in one call."""
         ids = [self._check_robot(rid) for rid in robot_ids]
         if self._raster is not None:
             yield from zip(ids, self._compiled_frames([self.camera_pose(rid) for rid in ids])[0])
             return
-        if not self._render_workers or len(ids) < 2:
-            yield from self._render_here(ids)
-            return
-        shares = _shares(ids, len(self._render_workers) + 1)
-        asked = []
-        try:
-            poses = self.body_poses()
-            for worker, share in zip(self._render_workers, shares):
-                if share:
-                    worker.submit(poses, [self.camera_pose(rid) for rid in share])
-                    asked.append((worker, share))
-        except RenderWorkerError as error:
-            self._render_worker_failed(error)
-            yield from self._render_here(ids)
-            return
-        yield from self._render_here(shares[-1])
-        for i, (worker, share) in enumerate(asked):
-            try:
-                frames = worker.collect()
-            except RenderWorkerError as error:
-                self._render_worker_failed(error)
-                yield from self._render_here([rid for _, rest in asked[i:] for rid in rest])
-                return
-            yield from zip(share, frames)
+        for rid in ids:
+            yield rid, self.render_camera(rid)
 
     def render_camera_at(self, rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
         """The 160x120 RGB image of a robot camera at a pose (rotation camera->world, position m)."""
@@ -494,25 +457,6 @@ class World:
         return self._raster.frames(cameras, cam.width_px, cam.height_px, cam.vertical_fov_rad, teams,
                                    poses_key=(self.time_s, self._moves))
 
-    def render_workers_peak_mb(self) -> float | None:
-        """The render workers' peak resident memory (MiB), summed; None without workers or where the system
-        does not say."""
-        peaks = [peak for peak in (w.peak_resident_mb() for w in self._render_workers) if peak is not None]
-        return sum(peaks) if peaks else None
-
-    def _render_here(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
-        for rid in robot_ids:
-            yield rid, self.render_camera(rid)
-
-    def _render_worker_failed(self, error: RenderWorkerError) -> None:
-        log.warning("render worker failed (%s); drawing every camera frame in this process from now on", error)
-        self._stop_render_workers()
-
-    def _stop_render_workers(self) -> None:
-        for worker in getattr(self, "_render_workers", ()):
-            worker.close()
-        self._render_workers = []
-
     def body_poses(self) -> BodyPoses:
         """Every robot's base pose and joint angles, the ball's pose and the team colours (see :class:`BodyPoses`)."""
         client, robots = self._client, []
@@ -525,7 +469,8 @@ class World:
         return BodyPoses(tuple(robots), ball, tuple(self._teams[rid] for rid in self._bodies))
 
     def set_body_poses(self, poses: BodyPoses) -> None:
-        """Put every body where ``poses`` says, at rest (for a render-only copy of a world: no physics is kept)."""
+        """Put every body where ``poses`` says, at rest (for a copy of a world that only draws: no physics is
+        kept)."""
         self._moves += 1
         client = self._client
         if len(poses.robots) != len(self._bodies) or len(poses.teams) != len(self._bodies):
@@ -642,10 +587,3 @@ def _imu_reading(true: tuple[float, float, float], bias: tuple[float, ...], whit
                  ) -> tuple[float, float, float]:
     """A reading: the true value plus the robot's bias plus its white noise (drawn even when zero)."""
     return (true[0] + bias[0] + white[0], true[1] + bias[1] + white[1], true[2] + bias[2] + white[2])
-
-
-def _shares(robot_ids: list[str], parts: int) -> list[list[str]]:
-    """``robot_ids`` cut into ``parts`` runs of sizes as equal as may be, the last ones the larger."""
-    sizes = [len(robot_ids) // parts + (1 if i >= parts - len(robot_ids) % parts else 0) for i in range(parts)]
-    starts = np.cumsum([0, *sizes])
-    return [robot_ids[starts[i]:starts[i + 1]] for i in range(parts)]

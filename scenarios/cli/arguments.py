@@ -249,15 +249,6 @@ def add_controller_arguments(parser: argparse.ArgumentParser) -> None:
                              f"{memory[0]:g}-{memory[1]:g} (default {default.memory_mb:g})")
 
 
-def add_render_workers_argument(parser: argparse.ArgumentParser, default_text: str) -> None:
-    """``--render-workers N`` (``args.render_workers``, None: the command's default, ``default_text``)."""
-    from world.world import MAX_RENDER_WORKERS
-
-    parser.add_argument("--render-workers", type=int_in(0, MAX_RENDER_WORKERS), default=None, metavar="N",
-                        help=f"processes that draw camera frames beside the simulator's, 0-{MAX_RENDER_WORKERS}: "
-                             f"the same match, sooner on more than one core (default: {default_text})")
-
-
 def controller_limits(args: argparse.Namespace):
     """The :class:`~match.controllers.ControllerLimits` of :func:`add_controller_arguments`, None: in process."""
     from match.controllers import ControllerLimits

@@ -15,7 +15,6 @@ from scenarios.cli.arguments import (
     HALF_SECONDS_MIN,
     add_controller_arguments,
     add_out_dir,
-    add_render_workers_argument,
     add_seed,
     controller_limits,
     half_seconds,
@@ -24,7 +23,6 @@ from scenarios.cli.arguments import (
     policy_override,
     robot_or_all,
 )
-from world.render_workers import default_render_workers
 
 NAME = "match"
 HELP = "run a full match headless between policies chosen by name"
@@ -64,7 +62,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write video_ROBOT.mp4: the robot's camera frames beside its vision debug overlay and a "
                              "field map with its estimate and true pose (repeatable; all: every robot)")
     add_controller_arguments(parser)
-    add_render_workers_argument(parser, "1 on a machine of two cores or more, else 0")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -82,7 +79,6 @@ def run(args: argparse.Namespace) -> int:
             args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
             seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
             controllers=controller_limits(args),
-            render_workers=default_render_workers() if args.render_workers is None else args.render_workers,
         )
     except KeyboardInterrupt:
         print(f"robotstadium match: interrupted; what was played is in {args.out} "

@@ -17,7 +17,6 @@ from scenarios.cli.arguments import (
     add_controller_arguments,
     add_no_progress,
     add_out_dir,
-    add_render_workers_argument,
     add_seed,
     batch_options,
     controller_limits,
@@ -27,7 +26,6 @@ from scenarios.cli.arguments import (
     policy_name,
 )
 from scenarios.tournament.settings import MAX_PLAYERS
-from world.render_workers import default_render_workers
 
 NAME = "tournament"
 HELP = "play many matches between policies and say, with 95%% intervals, which is better"
@@ -69,8 +67,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds, each 0-60 (part of the settings)
     parser.add_argument("--pauses", type=_pauses, default=None, help=argparse.SUPPRESS)
     add_controller_arguments(parser)
-    add_render_workers_argument(parser, "1 per match when the machine has at least twice as many cores as "
-                                        "--workers, else 0")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -85,11 +81,8 @@ def run(args: argparse.Namespace) -> int:
         except argparse.ArgumentTypeError as error:
             raise TournamentError(f"POLICY: {error}") from None
     options = batch_options(args)
-    render_workers = args.render_workers
-    if render_workers is None:
-        render_workers = default_render_workers(options.workers) if options.backend == "local" else 0
     settings = TournamentSettings(tuple(args.policies), args.matches, args.half_seconds, args.players, args.seed,
-                                  args.shootout, args.pauses, controller_limits(args), render_workers)
+                                  args.shootout, args.pauses, controller_limits(args))
     plots_for = sorted({check_match_index(settings, index, "--plots-for") for index in args.plots_for})
     try:
         report = run_tournament(settings, args.out, options, page=write_replay if args.replay else None)

@@ -102,7 +102,6 @@ def run_lineup_match(
     referee: Mapping[str, object] | None = None,
     videos: Sequence[str] = (),
     controllers: ControllerLimits | None = None,
-    render_workers: int = 0,
 ) -> MatchSummary:
     """Play one match of ``home`` against ``away`` robots with the line-up's policies.
 
@@ -110,8 +109,7 @@ def run_lineup_match(
     tournament's shorter pauses before the kick-off, for tests). ``videos``: robots (agent
     ids, or ``all``) whose camera videos are written into ``out_dir`` (``video_<agent>.mp4``).
     ``controllers``: the limits of the policies' controller processes; None: the policies run in
-    this process. ``render_workers``: processes that draw camera frames beside this one
-    (:class:`match.game.Match`; the same match, sooner on more than one core).
+    this process.
     """
     config = match_config(home, away, half_seconds, shootout, referee)
     agents = roster(home, away)
@@ -119,7 +117,7 @@ def run_lineup_match(
     if filmed and out_dir is None:
         raise LineupError(f"--video {', '.join(videos)}: videos need an output directory")
     lineup.check(agents)  # refused here too
-    match = Match(config, render_workers=render_workers)
+    match = Match(config)
     try:
         policies = lineup.controllers(agents, controllers)
         if not filmed:

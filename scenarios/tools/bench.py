@@ -237,8 +237,7 @@ def bench_env(repeats: int) -> dict[str, float]:
     """``env.step`` with 8 agents, all cameras on, random valid actions; beside it, in the same
     run and on the same world, the rendering and physics alone (``World.step`` + 8 frames);
     then, on the same env, ``env.step`` with every camera off (``env_step_cameras_off``); then
-    ``env.step`` with all cameras on again, on an env with one render worker
-    (``env_step_render_worker``)."""
+    ``env.step`` with all cameras on again, drawn by the reference renderer (``env_step_*_tiny``)."""
     env = _bench_env_instance()
     try:
         env.reset(seed=0)
@@ -280,16 +279,17 @@ def bench_env(repeats: int) -> dict[str, float]:
     metrics["env_steps_per_s_cameras_off"] = 1e3 / metrics["env_step_cameras_off_ms_median"]
     metrics["render_physics_only_steps_per_s"] = 1e3 / metrics["render_physics_only_ms_median"]
     metrics["env_over_render_physics_ratio"] = metrics["env_step_ms_median"] / metrics["render_physics_only_ms_median"]
-    return {**metrics, **_bench_env_render_worker(repeats)}
+    return {**metrics, **_bench_env_tiny(repeats)}
 
 
-def _bench_env_instance(render_workers: int = 0):
-    """The benchmarks' env: 8 agents, short pauses before the kick-off."""
+def _bench_env_instance(renderer: str = "numba"):
+    """The benchmarks' env: 8 agents, short pauses before the kick-off, cameras drawn by ``renderer``."""
     from match import parallel_env
     from match.game import MatchConfig
     from match.referee import RefereeConfig
 
-    return parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START)), render_workers=render_workers)
+    world = WorldConfig(render=RenderConfig(renderer=renderer))
+    return parallel_env(config=MatchConfig(referee=RefereeConfig(**QUICK_START), world=world))
 
 
 def _random_actions(env, cameras_on: bool = True) -> dict:
@@ -300,9 +300,10 @@ def _random_actions(env, cameras_on: bool = True) -> dict:
     return actions
 
 
-def _bench_env_render_worker(repeats: int) -> dict[str, float]:
-    """``env.step`` as :func:`bench_env` times it (all cameras on) on an env with one render worker."""
-    env = _bench_env_instance(render_workers=1)
+def _bench_env_tiny(repeats: int) -> dict[str, float]:
+    """``env.step`` as :func:`bench_env` times it (all cameras on) with the reference renderer
+    (``env_step_*_tiny``)."""
+    env = _bench_env_instance(renderer="tiny")
     actions: dict = {}
 
     def draw_actions() -> None:
@@ -316,8 +317,8 @@ def _bench_env_render_worker(repeats: int) -> dict[str, float]:
         step_ms = time_ms(lambda: env.step(actions), repeats, ENV_WARMUP, before=draw_actions)
     finally:
         env.close()
-    metrics = summarize("env_step_render_worker", step_ms)
-    metrics["env_steps_per_s_render_worker"] = 1e3 / metrics["env_step_render_worker_ms_median"]
+    metrics = _suffixed(summarize("env_step", step_ms), "_tiny")
+    metrics["env_steps_per_s_tiny"] = 1e3 / metrics["env_step_ms_median_tiny"]
     return metrics
 
 
@@ -397,14 +398,13 @@ def bench_broadcast(repeats: int) -> dict[str, float]:
 
 def bench_match(repeats: int) -> dict[str, float]:
     """Simulated seconds per wall second of an 8-robot match with the default policies in their default
-    controller processes and render workers, as the match command plays it (``2 * repeats`` control
+    controller processes, as the match command plays it (``2 * repeats`` control
     steps from the kick-off), and its peak resident memory (MiB).
 
     The match is played in a fresh process (``spawn``), so ``peak_rss_simulator_mb`` is the peak of a
     simulator process that played only this match (interpreter, imports, world, match), not of the
-    benchmarks before it. ``peak_rss_controllers_mb`` sums the controller processes' peaks and
-    ``peak_rss_render_workers_mb`` the render workers' (0 without one), read just before the run closes
-    them; ``peak_rss_mb`` is the sum of the three. The memory keys are left out where the system does
+    benchmarks before it. ``peak_rss_controllers_mb`` sums the controller processes' peaks, read just
+    before the run closes them; ``peak_rss_mb`` is the sum of the two. The memory keys are left out where the system does
     not report them (Linux does).
     """
     with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
@@ -420,11 +420,10 @@ def play_bench_match(repeats: int) -> dict[str, float]:
     from match.game import Match
     from match.runner import run_match
     from scenarios.matches.play import Lineup, match_config
-    from world.render_workers import default_render_workers
 
     config = match_config()
     config = replace(config, referee=replace(config.referee, **QUICK_START))
-    match = Match(config, render_workers=default_render_workers())
+    match = Match(config)
     try:
         controllers = Lineup().controllers(match.agents, ControllerLimits())
         assert isinstance(controllers, ProcessControllers)  # limits given: controller processes
@@ -435,25 +434,22 @@ def play_bench_match(repeats: int) -> dict[str, float]:
     metrics: dict[str, float] = {"match_real_time_factor": summary.real_time_factor, "match_steps": summary.steps}
     simulator_mb = own_peak_resident_mb()
     if simulator_mb is not None and stop.controllers_peak_mb is not None:
-        render_workers_mb = stop.render_workers_peak_mb or 0.0
-        metrics.update(peak_rss_mb=simulator_mb + stop.controllers_peak_mb + render_workers_mb,
-                       peak_rss_simulator_mb=simulator_mb, peak_rss_controllers_mb=stop.controllers_peak_mb,
-                       peak_rss_render_workers_mb=render_workers_mb)
+        metrics.update(peak_rss_mb=simulator_mb + stop.controllers_peak_mb,
+                       peak_rss_simulator_mb=simulator_mb, peak_rss_controllers_mb=stop.controllers_peak_mb)
     else:
         log.warning("match benchmark: this system does not report peak memory; no peak_rss keys")
     return metrics
 
 
 class _StopAfter:
-    """A match observer that ends the run after ``steps`` steps, reading the controller processes' and the
-    render workers' peak resident memory (MiB) first: the run closes them when it ends."""
+    """A match observer that ends the run after ``steps`` steps, reading the controller processes' peak
+    resident memory (MiB) first: the run closes them when it ends."""
 
     def __init__(self, steps: int, controllers: ProcessControllers):
         self.steps = steps
         self.controllers = controllers
         self.played = 0
         self.controllers_peak_mb: float | None = None
-        self.render_workers_peak_mb: float | None = None
 
     def decided(self, match: Match, actions: Mapping[str, object]) -> None:
         self.played += 1
@@ -462,7 +458,6 @@ class _StopAfter:
         if self.played < self.steps:
             return False
         self.controllers_peak_mb = self.controllers.peak_resident_mb()
-        self.render_workers_peak_mb = match.world.render_workers_peak_mb()
         return True
 
 
@@ -541,7 +536,6 @@ def bench_agent(repeats: int) -> dict[str, float]:
     from agents.team.agent import TeamAgent
     from match.game import Match
     from scenarios.matches.play import Lineup, match_config
-    from world.render_workers import default_render_workers
 
     config = match_config()
     config = replace(config, referee=replace(config.referee, **QUICK_START))

@@ -22,7 +22,6 @@ from pathlib import Path
 import numpy as np
 
 from match.controllers import ControllerLimits
-from world.world import MAX_RENDER_WORKERS
 
 MAX_PLAYERS = 4
 PAUSE_NAMES = ("initial_seconds", "ready_seconds", "set_seconds")  # the referee's pauses before a kick-off
@@ -42,8 +41,7 @@ class TournamentSettings:
     tournament's. ``pauses``: the INITIAL, READY and SET seconds before each kick-off (None:
     the rules' 2, 15 and 3 s; shorter ones make quick test tournaments). ``controllers``: the
     limits of the policies' controller processes (None: in the match's process); they change
-    no result of policies that keep to them. ``render_workers``: each match's processes drawing
-    camera frames beside its simulator's (they change no result)."""
+    no result of policies that keep to them."""
 
     policies: tuple[str, ...]
     matches: int = 10
@@ -53,7 +51,6 @@ class TournamentSettings:
     shootout: bool = True
     pauses: tuple[float, float, float] | None = None
     controllers: ControllerLimits | None = ControllerLimits()
-    render_workers: int = 0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "policies", tuple(self.policies))
@@ -75,9 +72,6 @@ class TournamentSettings:
             raise TournamentError(f"--players {self.players}: expected 1 to {MAX_PLAYERS} robots per side")
         if not _is_int(self.seed):
             raise TournamentError(f"--seed {self.seed!r}: expected an integer")
-        if not _is_int(self.render_workers) or not 0 <= self.render_workers <= MAX_RENDER_WORKERS:
-            raise TournamentError(f"--render-workers {self.render_workers!r}: expected an integer "
-                                  f"0-{MAX_RENDER_WORKERS}")
         if self.pauses is not None:
             pauses = tuple(self.pauses)
             if len(pauses) != len(PAUSE_NAMES) or not all(_is_number(p) and p >= 0 for p in pauses):
@@ -131,12 +125,11 @@ class TournamentSettings:
             "shootout": self.shootout,
             "pauses": list(self.pauses) if self.pauses is not None else None,
             "controllers": dataclasses.asdict(self.controllers) if self.controllers is not None else None,
-            "render_workers": self.render_workers,
         }
 
     def fingerprint(self) -> str:
         """A hash of everything that changes the results (for ``--resume``): sha256 hex, 16 digits."""
-        results = {key: value for key, value in self.to_json().items() if key not in ("controllers", "render_workers")}
+        results = {key: value for key, value in self.to_json().items() if key != "controllers"}
         return hashlib.sha256(json.dumps(results, sort_keys=True).encode("utf-8")).hexdigest()[:16]
 
 
