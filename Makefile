@@ -11,6 +11,7 @@ $(STAMP): pyproject.toml Makefile
 	test -x $(PY) || python3 -m venv $(VENV)
 	$(PY) -m pip install --upgrade pip
 	$(PY) -m pip install -e '.[test,ray,browser,learn]'
+	$(PY) -m world.raster.compile
 	touch $@
 
 test: install

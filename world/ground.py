@@ -60,7 +60,15 @@ class GroundRenderer:
         """
         height_px, width_px = depth_buffer.shape
         hall = self._hall.draw(rotation, position, width_px, height_px, focal_px)
-        shown = (depth_buffer >= hall.min_depth).reshape(-1)
+        return self.floor_hits(depth_buffer >= hall.min_depth, rotation, position, focal_px)
+
+    def floor_hits(
+        self, shown: np.ndarray, rotation: np.ndarray, position: np.ndarray, focal_px: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """As :meth:`hits`, for the pixels where the hall shows (``shown`` (h, w) bool: no body in front)."""
+        height_px, width_px = shown.shape
+        hall = self._hall.draw(rotation, position, width_px, height_px, focal_px)
+        shown = shown.reshape(-1)
         on_floor, x, y = self._hall.floor_texel_centres(hall)
         visible = shown[on_floor]
         return np.flatnonzero(on_floor)[visible], x[visible], y[visible]

@@ -6,14 +6,13 @@ the true class of every pixel, fits one RGB box per colour class and writes
 
 True classes of a frame's pixels:
 
-- bodies, from pybullet's segmentation mask of the same camera pose (object id and link
-  index): the goals are blue or yellow, the ball orange, a robot's waist link cyan (blue
-  team) or magenta (red team), its other links ``robot``, the walls, roof and banners
-  ``other``;
-- the ground, which :mod:`world.ground` draws analytically and the mask does not show:
-  :meth:`GroundRenderer.hits` (the renderer's own ground geometry) gives each ground
-  pixel's field point, which is looked up in the carpet texture (line texels white, carpet texels
-  green, off the carpet ``other``).
+- bodies, from the labels the compiled renderer draws with the frame
+  (:meth:`World.camera_labels`, pybullet's segmentation labels: object id and link index):
+  the goals are blue or yellow, the ball orange, a robot's waist link cyan (blue team) or
+  magenta (red team), its other links ``robot``, the walls, roof and banners ``other``;
+- the ground, which the hall's drawing shows unlabelled: :meth:`GroundRenderer.floor_hits`
+  (the renderer's own ground geometry) gives each ground pixel's field point, which is looked
+  up in the carpet texture (line texels white, carpet texels green, off the carpet ``other``).
 
 Fit (:func:`fit_thresholds`): per class and channel, the 0.5th to 99.5th percentile of the
 true pixels, widened by :data:`MARGIN_LEVELS` on each side, then widened outward to whole
@@ -145,15 +144,12 @@ class TruthLabeller:
         """Truth labels (H, W) uint8 of what ``robot_id``'s camera sees now."""
         world, cam = self.world, NAO_CAMERA
         rotation, position = world.camera_pose(robot_id)
-        _, depth, mask = rendering.camera_buffers(
-            world.client, rotation, position, cam.width_px, cam.height_px, cam.vertical_fov_rad,
-            world.config.render, segmentation=True,
-        )
+        _, mask = world.camera_labels(robot_id)  # the bodies' labels, as the renderer drew them
         labels = self._body_labels(mask.astype(np.int64)).reshape(-1)
-        # The ground is drawn analytically (world.ground), so the mask does not show it: label
-        # the pixels where the renderer's own ground geometry puts it.
+        # The hall is drawn analytically, without labels: label the pixels where its own ground
+        # geometry puts the carpet and the floor.
         focal = rendering.focal_length_px(cam.height_px, cam.vertical_fov_rad)
-        index, x, y = self._ground.hits(depth, rotation, position, focal)
+        index, x, y = self._ground.floor_hits(mask < 0, rotation, position, focal)
         on_carpet, rows, cols = self._ground.carpet_texels(x, y)
         labels[index[on_carpet]] = self._carpet_labels[rows, cols]
         labels[index[~on_carpet & self._ground.on_floor(x, y)]] = OTHER
