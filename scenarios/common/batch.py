@@ -166,8 +166,9 @@ def _run_pool(context, ticks, waiting: collections.deque, work: Work, workers: i
     """Tasks from ``waiting``, at most ``workers`` at once, until done or the pool broke (then ``crashed``)."""
     broken = False
     try:
-        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context,
-                                                    initializer=_init_worker, initargs=(ticks, os.getpid())) as pool:
+        threads = max(1, (os.cpu_count() or 1) // workers)  # each worker's share of the cores for compiled code
+        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_init_worker,
+                                                    initargs=(ticks, os.getpid(), threads)) as pool:
             running: dict[concurrent.futures.Future, Any] = {}
             try:
                 while running or (waiting and not broken):
@@ -247,9 +248,14 @@ _worker_queue = None
 _worker_parent = None
 
 
-def _init_worker(ticks, parent_pid: int) -> None:
+def _init_worker(ticks, parent_pid: int, threads: int = 1) -> None:
+    """A pool worker's start: ``threads`` threads for numba's parallel code (the renderer's cameras), so that
+    the workers together use the cores once."""
     global _worker_queue, _worker_parent
     prepare_worker(parent_pid)
+    import numba
+
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     _worker_queue, _worker_parent = ticks, parent_pid
 
 
@@ -269,7 +275,7 @@ def _work_in_worker(work: Work, task: Any) -> Any:
 
 
 def _work_alone(work: Work, task: Any, ticks, send, parent_pid: int) -> None:
-    _init_worker(ticks, parent_pid)
+    _init_worker(ticks, parent_pid, os.cpu_count() or 1)  # alone: all the cores
     try:
         value = work(task, _tick)
     except Exception as error:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pybullet as pb
+from numba import njit
 
 from world.field import FieldGeometry, GoalColor
 from world.meshes import Mesh, box_mesh, goal_mesh, icosphere_mesh
@@ -127,34 +128,37 @@ def raster_geometry(field: FieldGeometry, ball: int, robots: dict[int, TeamColor
     return builder.build(set(goals.values()))  # the goals stand at the origin, unturned
 
 
-def quaternion_matrices(quaternions: np.ndarray, out: np.ndarray) -> None:
-    """Rotation matrices into ``out`` (n, >=3, >=3) of quaternions (n, 4) x, y, z, w, as Bullet's
-    ``setRotation`` computes them."""
-    x, y, z, w = quaternions[:, 0], quaternions[:, 1], quaternions[:, 2], quaternions[:, 3]
-    s = 2.0 / (x * x + y * y + z * z + w * w)
-    xs, ys, zs = x * s, y * s, z * s
-    wx, wy, wz = w * xs, w * ys, w * zs
-    xx, xy, xz = x * xs, x * ys, x * zs
-    yy, yz, zz = y * ys, y * zs, z * zs
-    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = 1.0 - (yy + zz), xy - wz, xz + wy
-    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = xy + wz, 1.0 - (xx + zz), yz - wx
-    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = xz - wy, yz + wx, 1.0 - (xx + yy)
+@njit(cache=True)
+def _model_matrices(poses: np.ndarray, static_models: np.ndarray, moving_instances: np.ndarray) -> np.ndarray:
+    """``static_models`` with each moving instance's matrix from its pose (x, y, z, qx, qy, qz, qw), the
+    rotation as Bullet's ``setRotation`` makes it, computed in float64 and then cast."""
+    models = static_models.copy()
+    for k in range(poses.shape[0]):
+        x, y, z, w = poses[k, 3], poses[k, 4], poses[k, 5], poses[k, 6]
+        s = 2.0 / (x * x + y * y + z * z + w * w)
+        xs, ys, zs = x * s, y * s, z * s
+        wx, wy, wz = w * xs, w * ys, w * zs
+        xx, xy, xz = x * xs, x * ys, x * zs
+        yy, yz, zz = y * ys, y * zs, z * zs
+        rotation = ((1.0 - (yy + zz), xy - wz, xz + wy), (xy + wz, 1.0 - (xx + zz), yz - wx),
+                    (xz - wy, yz + wx, 1.0 - (xx + yy)))
+        m = models[moving_instances[k]]
+        for i in range(3):
+            for j in range(3):
+                m[i, j] = np.float32(rotation[i][j])
+            m[i, 3] = np.float32(poses[k, i])
+            m[3, i] = np.float32(0.0)
+        m[3, 3] = np.float32(1.0)
+    return models
 
 
 def model_matrices(client: int, geometry: RasterGeometry) -> np.ndarray:
     """Every instance's model matrix now (n, 4, 4) float32: its centre-of-mass pose in the world."""
-    poses = []  # (position, orientation) of the moving instances, in the order of geometry.moving
+    poses = []  # (x, y, z, qx, qy, qz, qw) of the moving instances, in the order of geometry.moving
     for body, links in geometry.moving:
-        poses.append(pb.getBasePositionAndOrientation(body, physicsClientId=client))
+        position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+        poses.append((*position, *orientation))
         if links:
-            poses += [state[:2] for state in pb.getLinkStates(body, links, computeForwardKinematics=True,
-                                                              physicsClientId=client)]
-    flat = np.array([(*position, *orientation) for position, orientation in poses])
-    moving = np.empty((len(poses), 4, 4))
-    quaternion_matrices(flat[:, 3:], moving)
-    moving[:, :3, 3] = flat[:, :3]
-    moving[:, 3, :3] = 0.0
-    moving[:, 3, 3] = 1.0
-    models = geometry.static_models.copy()
-    models[geometry.moving_instances] = moving
-    return models
+            poses += [(*state[0], *state[1]) for state in pb.getLinkStates(body, links, computeForwardKinematics=True,
+                                                                           physicsClientId=client)]
+    return _model_matrices(np.array(poses), geometry.static_models, geometry.moving_instances)
