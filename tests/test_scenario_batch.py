@@ -63,6 +63,28 @@ def test_two_workers_give_the_same_results(alone_spec, one_worker: Path, tmp_pat
 
 
 @pytest.mark.render
+def test_several_scenarios_share_one_pool_and_give_each_its_own_results(alone_spec, one_worker: Path,
+                                                                         tmp_path: Path) -> None:
+    """Two scenarios in one pool, runs interleaved: each one's results are those it gives alone."""
+    other = dataclasses.replace(alone_spec, name="tiny other", seed=6)
+    alone_other = tmp_path / "alone_other"
+    run_scenario(other, "other", alone_other, BatchOptions(workers=1, progress=False))
+    together = [(alone_spec, "tiny", tmp_path / "tiny"), (other, "other", tmp_path / "other")]
+    reports = scenario_batch.run_scenarios(together, BatchOptions(workers=2, progress=False))
+    assert [r.key for r in reports] == ["tiny", "other"]
+    assert (tmp_path / "tiny" / "results.csv").read_bytes() == (one_worker / "results.csv").read_bytes()
+    assert (tmp_path / "other" / "results.csv").read_bytes() == (alone_other / "results.csv").read_bytes()
+    assert all(0.0 < r.wall_seconds for r in reports)
+
+
+def test_the_longest_runs_go_first() -> None:
+    match = load_scenario("3-match")
+    short, long = (RunTask(load_scenario("1"), 0, 1, samples) for samples in (2, 9))
+    tasks = sorted([short, RunTask(match, 0, 1, 1), long], key=scenario_batch._longest_first)
+    assert tasks[0].spec is match and tasks[1:] == [long, short]
+
+
+@pytest.mark.render
 def test_resume_keeps_finished_runs(alone_spec, one_worker: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     calls: list[int] = []
 

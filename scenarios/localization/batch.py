@@ -1,6 +1,7 @@
 """The batch of a scenario: its runs on local processes or Ray tasks, resumable, and its report.
 
-The runs go through the batch engine (:mod:`scenarios.common.batch`). Every finished run is
+The runs go through the batch engine (:mod:`scenarios.common.batch`), those of several scenarios
+in one pool, the longest first. Every finished run is
 written at once to ``DIR/runs/run_NNNN.json`` (atomically), so a batch interrupted with
 Ctrl-C or killed keeps what it finished, and ``resume=True`` continues without recomputing
 those runs. The report is built from the run files in run order, so it is the same whatever
@@ -33,7 +34,7 @@ from scenarios.common.batch import (
 )
 from scenarios.localization.figures import plot_errors, plot_traces
 from scenarios.localization.file import NAMED_SCENARIOS, load_scenario
-from scenarios.localization.run import RunOutcome, run_tasks, simulate_run
+from scenarios.localization.run import RunOutcome, RunTask, run_tasks, simulate_run
 from scenarios.localization.samples import LocalizationSample
 from scenarios.localization.spec import ScenarioSpec
 from scenarios.localization.statistics import ScenarioReport
@@ -45,7 +46,8 @@ from scenarios.localization.tables import (
     write_summary_json,
 )
 
-__all__ = ["BACKENDS", "BatchOptions", "RunStore", "ScenarioBatchError", "default_workers", "run_named", "run_scenario"]
+__all__ = ["BACKENDS", "BatchOptions", "RunStore", "ScenarioBatchError", "default_workers", "run_named", "run_scenario",
+           "run_scenarios"]
 
 log = logging.getLogger(__name__)
 
@@ -57,43 +59,80 @@ ScenarioBatchError = BatchError  # a batch that cannot start (bad options, a dir
 
 def run_scenario(spec: ScenarioSpec, key: str, out_dir: Path, options: BatchOptions = BatchOptions()) -> ScenarioReport:
     """Run every run of ``spec`` not already in ``out_dir``, then write and return the report."""
+    return run_scenarios([(spec, key, Path(out_dir))], options)[0]
+
+
+@dataclasses.dataclass
+class _Pending:
+    """One scenario of a batch: its runs, those already done, its store, when its last run finished."""
+
+    spec: ScenarioSpec
+    key: str
+    store: RunStore
+    tasks: tuple[RunTask, ...]
+    done: dict[int, RunOutcome]
+    finished_s: float = 0.0
+
+
+def run_scenarios(scenarios: Sequence[tuple[ScenarioSpec, str, Path]], options: BatchOptions = BatchOptions()
+                  ) -> list[ScenarioReport]:
+    """Run the runs of several scenarios ((spec, key, directory) each) not already in their directories, all
+    in one pool of workers, the longest first (:func:`_longest_first`), then write and return each
+    scenario's report, in the order given. A report's ``wall_seconds`` is the time from the batch's
+    start to the end of that scenario's last run."""
     started = time.perf_counter()
-    out_dir = Path(out_dir)
-    store = RunStore(out_dir, spec, resume=options.resume)
-    tasks = run_tasks(spec)
-    done = store.load()
-    pending = [t for t in tasks if t.run not in done]
-    if done:
-        log.info("%s: %d of %d runs already in %s", spec.name, len(done), len(tasks), out_dir)
-    bar = tqdm(total=spec.expected_samples(), initial=sum(o.events for o in done.values()),
-               unit="sample", desc=spec.name, disable=not options.progress, dynamic_ncols=True)
+    batches = []
+    for spec, key, out_dir in scenarios:
+        store = RunStore(Path(out_dir), spec, resume=options.resume)
+        done = store.load()
+        tasks = run_tasks(spec)
+        if done:
+            log.info("%s: %d of %d runs already in %s", spec.name, len(done), len(tasks), out_dir)
+        batches.append(_Pending(spec, key, store, tasks, done))
+    of_task = {id(t): b for b in batches for t in b.tasks if t.run not in b.done}
+    pending = sorted((t for b in batches for t in b.tasks if t.run not in b.done), key=_longest_first)
+    name = batches[0].spec.name if len(batches) == 1 else f"{len(batches)} scenarios"
+    bar = tqdm(total=sum(b.spec.expected_samples() for b in batches),
+               initial=sum(o.events for b in batches for o in b.done.values()),
+               unit="sample", desc=name, disable=not options.progress, dynamic_ncols=True)
     failures = []
     try:
         for result in execute(pending, simulate_run, options, lambda n=1: bar.update(n),
-                              units=lambda outcome: outcome.events, label=lambda task: f"{spec.name} run {task.run}"):
+                              units=lambda outcome: outcome.events,
+                              label=lambda task: f"{task.spec.name} run {task.run}"):
+            batch = of_task[id(result.task)]
             if result.failed:
-                failures.append(f"run {result.task.run}: {result.error}")
+                failures.append(f"{batch.spec.name} run {result.task.run}: {result.error}")
                 continue
-            store.save(result.value)
-            done[result.value.run] = result.value
+            batch.store.save(result.value)
+            batch.done[result.value.run] = result.value
+            batch.finished_s = time.perf_counter() - started
     finally:
         bar.close()
     if failures:
-        raise ScenarioBatchError(f"{spec.name}: {len(failures)} run(s) failed ({'; '.join(failures)}); the finished "
-                                 f"runs are kept in {store.runs_dir}: run again with --resume to retry the failed ones")
-    outcomes = [done[t.run] for t in tasks]
-    samples = tuple(s for o in outcomes for s in o.samples)
-    report = ScenarioReport(
-        key=key,
-        spec=spec,
-        samples=samples,
-        run_seeds=spec.run_seeds(),
-        wall_seconds=time.perf_counter() - started,
-        sim_seconds=sum(o.sim_seconds for o in outcomes),
-        versions=package_versions(),
-    )
-    write_scenario_report(out_dir, report)
-    return report
+        kept = ", ".join(str(b.store.runs_dir) for b in batches)
+        raise ScenarioBatchError(f"{len(failures)} run(s) failed ({'; '.join(failures)}); the finished runs are kept "
+                                 f"in {kept}: run again with --resume to retry the failed ones")
+    reports = []
+    for batch, (_, _, out_dir) in zip(batches, scenarios):
+        outcomes = [batch.done[t.run] for t in batch.tasks]
+        report = ScenarioReport(
+            key=batch.key,
+            spec=batch.spec,
+            samples=tuple(s for o in outcomes for s in o.samples),
+            run_seeds=batch.spec.run_seeds(),
+            wall_seconds=batch.finished_s,
+            sim_seconds=sum(o.sim_seconds for o in outcomes),
+            versions=package_versions(),
+        )
+        write_scenario_report(Path(out_dir), report)
+        reports.append(report)
+    return reports
+
+
+def _longest_first(task: RunTask) -> tuple[int, int]:
+    """Sort key putting the longest runs first: a periodic run plays a whole match; others by their samples."""
+    return (0 if task.spec.periodic else 1, -task.samples)
 
 
 # ---- where finished runs are kept -----------------------------------------------------------
@@ -199,10 +238,9 @@ def run_named(names: Sequence[str], out_dir: Path, options: BatchOptions, **over
     dirs = [Path(out_dir)] if len(specs) == 1 else [Path(out_dir) / f"scenario_{key}" for key, _ in specs]
     for directory, (_, spec) in zip(dirs, specs):
         RunStore(directory, spec, resume=options.resume, write=False)
-    if len(specs) == 1:
-        return [run_scenario(specs[0][1], specs[0][0], out_dir, options)]
-    reports = [run_scenario(spec, key, directory, options) for directory, (key, spec) in zip(dirs, specs)]
-    write_combined_report(out_dir, reports)
+    reports = run_scenarios([(spec, key, directory) for directory, (key, spec) in zip(dirs, specs)], options)
+    if len(specs) > 1:
+        write_combined_report(out_dir, reports)
     return reports
 
 
