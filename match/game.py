@@ -247,8 +247,11 @@ class Match:
         for robot in self.agent_names:
             if robot not in seeing:
                 built(robot, None)
-        for robot, image in self.world.render_cameras(seeing):
-            built(robot, image)
+        # one side's frames at a time (each side's in one call): the first side's controller acts on its
+        # observations while the other side's frames are drawn
+        for side in Side:
+            for robot, image in self.world.render_cameras([r for r in seeing if self._by_name[r].side is side]):
+                built(robot, image)
         return {robot: observations[robot] for robot in self.agent_names}
 
     # ---- ground truth (evaluation only) -------------------------------------------------

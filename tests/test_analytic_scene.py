@@ -15,6 +15,7 @@ import math
 import numpy as np
 import pytest
 
+from tests.image_edges import near_edge
 from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RenderConfig, RobotSpec, WorldConfig
@@ -63,23 +64,11 @@ def worlds():
     reference.close()
 
 
-def _near_edge(image: np.ndarray) -> np.ndarray:
-    """Pixels (h, w) whose 3x3 neighbourhood holds another colour."""
-    packed = image.astype(np.int64) @ np.array([1 << 16, 1 << 8, 1])
-    padded = np.pad(packed, 1, mode="edge")
-    height, width = packed.shape
-    near = np.zeros(packed.shape, bool)
-    for dy in range(3):
-        for dx in range(3):
-            near |= padded[dy : dy + height, dx : dx + width] != packed
-    return near
-
-
 def _differing(analytic: np.ndarray, reference: np.ndarray, what: str) -> np.ndarray:
     """Pixels (h, w) where the images differ; each must lie at an edge of one of them."""
     assert analytic.shape == reference.shape and analytic.dtype == reference.dtype == np.uint8
     differ = np.any(analytic != reference, axis=2)
-    off_edge = differ & ~_near_edge(reference) & ~_near_edge(analytic)
+    off_edge = differ & ~near_edge(reference) & ~near_edge(analytic)
     assert not off_edge.any(), f"{what}: {off_edge.sum()} differing pixels off edges: {np.argwhere(off_edge)[:3]}"
     return differ
 

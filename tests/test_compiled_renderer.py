@@ -18,6 +18,7 @@ import pytest
 from match.game import Match
 from match.runner import run_match
 from scenarios.matches.play import Lineup, match_config
+from tests.image_edges import near_edge
 from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
 from world.config import RenderConfig, RobotSpec, WorldConfig
@@ -45,18 +46,6 @@ def worlds():
     reference.close()
 
 
-def _near_edge(image: np.ndarray) -> np.ndarray:
-    """Pixels (h, w) whose 3x3 neighbourhood in ``image`` holds another colour."""
-    packed = image.astype(np.int64) @ np.array([1 << 16, 1 << 8, 1])
-    padded = np.pad(packed, 1, mode="edge")
-    height, width = packed.shape
-    edge = np.zeros(packed.shape, bool)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            edge |= padded[1 + dy:1 + dy + height, 1 + dx:1 + dx + width] != packed
-    return edge
-
-
 class _Tally:
     """Identical pixels, and differing pixels off the reference's edges, over many frames."""
 
@@ -67,7 +56,7 @@ class _Tally:
         differ = (compiled != reference).any(axis=2)
         self.pixels += differ.size
         self.differing += int(differ.sum())
-        self.off_edges += int((differ & ~_near_edge(reference)).sum())
+        self.off_edges += int((differ & ~near_edge(reference)).sum())
 
     def check(self, what: str) -> None:
         identical = 1.0 - self.differing / self.pixels

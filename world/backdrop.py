@@ -27,7 +27,6 @@ walls), then one per wall, roof and banner face. A frame is a palette index per 
 from __future__ import annotations
 
 import functools
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,6 +34,7 @@ import numpy as np
 from world.config import RenderConfig
 from world.field import FieldGeometry
 from world.pixel_rays import separable_rays
+from world.pose_cache import PoseCache
 from world.scene import (
     BANNER_RGBA,
     FLOOR_RGBA,
@@ -195,22 +195,14 @@ class HallBackdrop:
         half_x, half_y = hall_half_extent(field)
         diagonal = float(np.linalg.norm([2 * half_x, 2 * half_y, planes[-1].offset]))  # the roof is last
         self._far_from_inside = diagonal >= far  # may a camera inside the hall see past the far plane?
-        self._cache: OrderedDict[tuple, Backdrop] = OrderedDict()
+        self._cache: PoseCache[Backdrop] = PoseCache(CACHE_SIZE)
 
     def draw(
         self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int, focal_px: float
     ) -> Backdrop:
         """The hall seen from a camera (rotation camera->world, position m), ``focal_px`` focal length."""
-        key = (rotation.tobytes(), position.tobytes(), width_px, height_px, focal_px)
-        backdrop = self._cache.get(key)
-        if backdrop is None:
-            backdrop = self._draw(rotation, np.asarray(position, float), width_px, height_px, focal_px)
-            self._cache[key] = backdrop
-            if len(self._cache) > CACHE_SIZE:
-                self._cache.popitem(last=False)
-        else:
-            self._cache.move_to_end(key)
-        return backdrop
+        return self._cache.get(rotation, position, (width_px, height_px, focal_px),
+                               lambda: self._draw(rotation, np.asarray(position, float), width_px, height_px, focal_px))
 
     def tables(self) -> HallTables:
         """The tables this backdrop draws from (see :class:`HallTables`)."""

@@ -117,16 +117,21 @@ def icosphere_mesh(radius_m: float, subdivisions: int = ICOSPHERE_SUBDIVISIONS) 
     return Mesh((unit * radius_m).astype(np.float32), unit.astype(np.float32), np.asarray(faces, np.int32))
 
 
+def _frame_along(p0: np.ndarray, p1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A right-handed frame (axis, u, v) of unit vectors with ``axis`` from ``p0`` to ``p1``."""
+    axis = (p1 - p0) / np.linalg.norm(p1 - p0)
+    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(helper, axis)
+    u /= np.linalg.norm(u)
+    return axis, u, np.cross(axis, u)
+
+
 def cylinder_mesh(start: tuple[float, float, float], end: tuple[float, float, float], radius_m: float,
                   sides: int = CYLINDER_SIDES) -> Mesh:
     """A closed cylinder from ``start`` to ``end`` (m): ``sides`` quads with smooth radial normals, and two
     flat caps."""
     p0, p1 = np.asarray(start, float), np.asarray(end, float)
-    axis = (p1 - p0) / np.linalg.norm(p1 - p0)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = np.cross(axis, helper)
-    u /= np.linalg.norm(u)
-    v = np.cross(axis, u)
+    axis, u, v = _frame_along(p0, p1)
     angles = 2.0 * math.pi * np.arange(sides) / sides
     radial = np.cos(angles)[:, None] * u + np.sin(angles)[:, None] * v  # counter-clockwise about the axis
     vertices = [p0 + radius_m * radial, p1 + radial * radius_m]
@@ -149,12 +154,7 @@ def cylinder_mesh(start: tuple[float, float, float], end: tuple[float, float, fl
 def bar_mesh(start: tuple[float, float, float], end: tuple[float, float, float], half_side_m: float) -> Mesh:
     """A square bar from ``start`` to ``end`` (m), ``2 * half_side_m`` thick, as a box along the segment."""
     p0, p1 = np.asarray(start, float), np.asarray(end, float)
-    axis = (p1 - p0) / np.linalg.norm(p1 - p0)
-    helper = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    side = np.cross(helper, axis)
-    side /= np.linalg.norm(side)
-    up = np.cross(axis, side)
-    rotation = np.stack([axis, side, up], axis=1)  # box frame -> world: x along the bar
+    rotation = np.stack(_frame_along(p0, p1), axis=1)  # box frame -> world: x along the bar
     half_length = float(np.linalg.norm(p1 - p0)) / 2.0
     return box_mesh((half_length, half_side_m, half_side_m)).moved(rotation, (p0 + p1) / 2.0)
 

@@ -18,7 +18,6 @@ nearer); the goal's colour and depth at a pixel do not depend on the bodies
 
 from __future__ import annotations
 
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +26,7 @@ import pybullet as pb
 from world.config import RenderConfig
 from world.field import FieldGeometry
 from world.ground import GroundRenderer, merge_by_depth
+from world.pose_cache import PoseCache
 from world.rendering import focal_length_px, tiny_renderer_buffers
 from world.scene import GOAL_RGBA, SceneBodies, build_scene
 
@@ -61,7 +61,7 @@ class StaticScene:
         self._goals = scene.goals
         self._ground = ground
         self._goal_client: int | None = None
-        self._cache: OrderedDict[tuple, StaticLayer] = OrderedDict()
+        self._cache: PoseCache[StaticLayer] = PoseCache(CACHE_SIZE)
 
     def close(self) -> None:
         if self._goal_client is not None:
@@ -87,16 +87,8 @@ class StaticScene:
     def _layer(
         self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int, vertical_fov_rad: float
     ) -> StaticLayer:
-        key = (rotation.tobytes(), np.asarray(position, float).tobytes(), width_px, height_px, vertical_fov_rad)
-        layer = self._cache.get(key)
-        if layer is None:
-            layer = self._draw(rotation, np.asarray(position, float), width_px, height_px, vertical_fov_rad)
-            self._cache[key] = layer
-            if len(self._cache) > CACHE_SIZE:
-                self._cache.popitem(last=False)
-        else:
-            self._cache.move_to_end(key)
-        return layer
+        return self._cache.get(rotation, position, (width_px, height_px, vertical_fov_rad), lambda: self._draw(
+            rotation, np.asarray(position, float), width_px, height_px, vertical_fov_rad))
 
     def _draw(
         self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int, vertical_fov_rad: float

@@ -10,6 +10,7 @@ runs' figures side by side (``robotstadium bench --compare``).
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import json
 import logging
@@ -19,7 +20,7 @@ import os
 import platform
 import sys
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -132,10 +133,7 @@ def bench_render(repeats: int) -> dict[str, float]:
     new camera pose (:data:`RENDER_HEAD_YAWS_RAD`; the head's turn and the control step are not timed),
     by the compiled renderer (``render``) and, frame by frame in turn with it, by the reference
     renderer, TinyRenderer with the analytic hall (``render_*_tiny``)."""
-    worlds = {name: World(team_roster(), WorldConfig(render=RenderConfig(renderer=name))) for name in RENDERERS}
-    try:
-        for world in worlds.values():
-            setup_render_scene(world)
+    with _render_scenes() as worlds:
         samples = {name: np.empty(repeats) for name in worlds}
         yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
         for i in range(RENDER_WARMUP + repeats):
@@ -147,12 +145,23 @@ def bench_render(repeats: int) -> dict[str, float]:
                 world.render_camera(RENDER_VIEWER)
                 if i >= RENDER_WARMUP:
                     samples[name][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
-    finally:
-        for world in worlds.values():
-            world.close()
     metrics = {**summarize("render", samples["numba"]), **_suffixed(summarize("render", samples["tiny"]), "_tiny")}
     metrics["render_tiny_over_numba_ratio"] = metrics["render_ms_median_tiny"] / metrics["render_ms_median"]
     return metrics
+
+
+@contextlib.contextmanager
+def _render_scenes() -> Iterator[dict[str, World]]:
+    """The scene of :func:`setup_render_scene` in a world of each renderer (name -> world), closed after."""
+    worlds: dict[str, World] = {}
+    try:
+        for name in RENDERERS:
+            worlds[name] = World(team_roster(), WorldConfig(render=RenderConfig(renderer=name)))
+            setup_render_scene(worlds[name])
+        yield worlds
+    finally:
+        for world in worlds.values():
+            world.close()
 
 
 def _suffixed(metrics: dict[str, float], suffix: str) -> dict[str, float]:
@@ -164,11 +173,8 @@ def bench_cameras(repeats: int) -> dict[str, float]:
     :func:`bench_render`, each step from new head angles, by the compiled renderer on numba's threads
     (``cameras_per_step``), on one thread (``*_serial``) and by the reference renderer (``*_tiny``), in
     turn step by step."""
-    worlds = {name: World(team_roster(), WorldConfig(render=RenderConfig(renderer=name))) for name in RENDERERS}
     variants = {"": ("numba", True), "_serial": ("numba", False), "_tiny": ("tiny", None)}
-    try:
-        for world in worlds.values():
-            setup_render_scene(world)
+    with _render_scenes() as worlds:
         samples = {suffix: np.empty(repeats) for suffix in variants}
         yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
         for i in range(RENDER_WARMUP + repeats):
@@ -186,9 +192,6 @@ def bench_cameras(repeats: int) -> dict[str, float]:
                     pass
                 if i >= RENDER_WARMUP:
                     samples[suffix][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
-    finally:
-        for world in worlds.values():
-            world.close()
     metrics: dict[str, float] = {}
     for suffix, values in samples.items():
         metrics.update(_suffixed(summarize("cameras_per_step", values), suffix))

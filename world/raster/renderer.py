@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import functools
 import math
-from collections import OrderedDict
 from collections.abc import Sequence
 
 import numpy as np
@@ -20,6 +19,7 @@ from world.config import RenderConfig
 from world.raster import frames as kernels
 from world.raster.geometry import RasterGeometry, model_matrices
 from world.raster.hall import draw_hall, pack_tables
+from world.pose_cache import PoseCache
 from world.raster.threads import parallel_cameras
 from world.shading import material_rgb
 from world.teams import TeamColor
@@ -60,7 +60,7 @@ class CompiledRenderer:
         self._light = (light / np.linalg.norm(light)).astype(F32)
         self._coefficients = (F32(render.ambient), F32(render.diffuse), F32(render.specular))
         self._rgb_of_teams: dict[tuple, np.ndarray] = {}
-        self._hall_cache: OrderedDict[tuple, tuple[np.ndarray, np.ndarray]] = OrderedDict()
+        self._hall_cache: PoseCache[tuple[np.ndarray, np.ndarray]] = PoseCache(HALL_CACHE_SIZE)
         self.parallel = parallel_cameras()
         self._models: tuple[object, np.ndarray] | None = None  # (poses key, model matrices) of the last call
 
@@ -112,17 +112,12 @@ class CompiledRenderer:
 
     def _cached_hall(self, rotation: np.ndarray, position: np.ndarray, width_px: int, height_px: int,
                      focal: float) -> tuple[np.ndarray, np.ndarray]:
-        key = (rotation.tobytes(), position.tobytes(), width_px, height_px, focal)
-        hall = self._hall_cache.get(key)
-        if hall is None:
+        def draw() -> tuple[np.ndarray, np.ndarray]:
             hall = (np.empty(width_px * height_px, np.uint32), np.empty(width_px * height_px, np.float32))
             draw_hall(rotation, position, width_px, height_px, focal, *self._hall, *hall)
-            self._hall_cache[key] = hall
-            if len(self._hall_cache) > HALL_CACHE_SIZE:
-                self._hall_cache.popitem(last=False)
-        else:
-            self._hall_cache.move_to_end(key)
-        return hall
+            return hall
+
+        return self._hall_cache.get(rotation, position, (width_px, height_px, focal), draw)
 
     def _shape_rgb(self, teams: dict[int, TeamColor]) -> np.ndarray:
         """The shapes' colours with each waistband in its robot's team colour."""
