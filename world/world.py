@@ -102,7 +102,7 @@ class World:
         if self._client < 0:
             raise RuntimeError("could not connect to a pybullet physics server")
         self._closed = False
-        self._moves = 0  # bodies put somewhere by hand (placed, restored): with the time, what poses are
+        self._moves = 0  # placements and restores so far: with the time, the key of the bodies' poses (world.raster)
         try:
             self._build(robots, gui)
         except Exception:

@@ -116,7 +116,7 @@ def draw_hall(rotation, position, width, height, focal, tables_f64, tables_i64, 
     for f in range(faces):
         any_behind = any_behind or behind[f]
 
-    colour = np.full(pixels, nothing, np.int64)
+    colour = np.full(pixels, nothing, np.int32)
     hall_inverse = np.full(pixels, F32(NEG_INF), np.float32)
     top, bottom = height, 0
     if any_front:  # rows in which the ground is nearer than any wall or roof could be need no more
@@ -241,5 +241,5 @@ def pack_tables(tables) -> tuple[np.ndarray, ...]:
     banners = tables.banners
     banner_i = np.column_stack([banners.face, banners.colour, banners.axis, banners.edge_axes]).astype(np.int64)
     banner_f = np.column_stack([banners.offset, banners.edge_bounds]).astype(np.float64)
-    return (floats, integers, tables.floor_colours.astype(np.int64), tables.face_colours.astype(np.int64),
+    return (floats, integers, np.ascontiguousarray(tables.floor_colours, np.uint8), tables.face_colours.astype(np.int32),
             np.ascontiguousarray(banner_i), np.ascontiguousarray(banner_f), tables.palette)
