@@ -53,7 +53,8 @@ def look_at(eye, target, up) -> tuple[np.ndarray, np.ndarray]:
 
 
 @functools.lru_cache(maxsize=16)
-def _projection(vertical_fov_rad: float, aspect: float, near_m: float, far_m: float) -> tuple[float, ...]:
+def projection_matrix(vertical_fov_rad: float, aspect: float, near_m: float, far_m: float) -> tuple[float, ...]:
+    """pybullet's projection matrix (16 floats, column-major) of a camera of this field of view and aspect."""
     fov_deg = math.degrees(vertical_fov_rad)
     return pb.computeProjectionMatrixFOV(fov=fov_deg, aspect=aspect, nearVal=near_m, farVal=far_m)
 
@@ -74,7 +75,7 @@ def tiny_renderer_buffers(
         width_px,
         height_px,
         viewMatrix=view_matrix(rotation, position),
-        projectionMatrix=_projection(vertical_fov_rad, width_px / height_px, render_config.near_m, render_config.far_m),
+        projectionMatrix=projection_matrix(vertical_fov_rad, width_px / height_px, render_config.near_m, render_config.far_m),
         lightDirection=render_config.light_direction,
         lightAmbientCoeff=render_config.ambient,
         lightDiffuseCoeff=render_config.diffuse,

@@ -12,14 +12,14 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
-import pybullet as pb
 
+from world import rendering
 from world.backdrop import HallBackdrop
 from world.config import RenderConfig
+from world.pose_cache import PoseCache
 from world.raster import frames as kernels
 from world.raster.geometry import RasterGeometry, model_matrices
 from world.raster.hall import draw_hall, pack_tables
-from world.pose_cache import PoseCache
 from world.raster.threads import parallel_cameras
 from world.shading import material_rgb
 from world.teams import TeamColor
@@ -30,20 +30,16 @@ HALL_CACHE_SIZE = 4  # fixed camera poses whose hall is kept
 
 @functools.lru_cache(maxsize=16)
 def projection_matrix(vertical_fov_rad: float, aspect: float, near_m: float, far_m: float) -> np.ndarray:
-    """pybullet's projection matrix (4, 4) float32, indexed [row, column]; read-only."""
-    flat = pb.computeProjectionMatrixFOV(fov=math.degrees(vertical_fov_rad), aspect=aspect, nearVal=near_m,
-                                         farVal=far_m)
-    matrix = np.asarray(flat, np.float32).reshape(4, 4).T.copy()
+    """pybullet's projection matrix (4, 4) float32, indexed [row, column], as TinyRenderer gets it; read-only."""
+    matrix = np.asarray(rendering.projection_matrix(vertical_fov_rad, aspect, near_m, far_m), np.float32)
+    matrix = matrix.reshape(4, 4).T.copy()
     matrix.flags.writeable = False
     return matrix
 
 
 def view_matrix(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
     """pybullet's view matrix (4, 4) float32 [row, column] of a camera (rotation camera->world, position m)."""
-    forward, down = rotation[:, 2], rotation[:, 1]
-    flat = pb.computeViewMatrix(cameraEyePosition=position.tolist(), cameraTargetPosition=(position + forward).tolist(),
-                                cameraUpVector=(-down).tolist())
-    return np.asarray(flat, np.float32).reshape(4, 4).T
+    return np.asarray(rendering.view_matrix(rotation, position), np.float32).reshape(4, 4).T
 
 
 class CompiledRenderer:
