@@ -13,6 +13,7 @@ from agents.policies import make_policy
 from agents.behavior.skills import LONE_SILENCE_S
 from agents.team.agent import TeamAgent
 from agents.team.messages import Role, TeamMessage
+from agents.team.params import TeamParams
 from match.free_play import FreePlay
 from match.game import MatchConfig
 from match.protocol import (
@@ -31,6 +32,8 @@ from match.runner import run_match
 from tests.user_policies import RadioFuzzer
 from world.camera_model import CameraPosition
 from world.field import FIELD
+
+P = TeamParams.default()
 
 
 def _observation(seed: int, **changes) -> dict:
@@ -160,13 +163,13 @@ def test_it_shoots_past_a_goalkeeper_it_saw_not_at_it() -> None:
 
 
 def test_lining_up_a_shot_it_looks_ahead_with_the_top_camera_every_few_frames() -> None:
-    from agents.team.agent import CAMERA_EVERY_STEPS, SHOT_TOP_FRAME_EVERY
+    from agents.team.agent import CAMERA_EVERY_STEPS
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
     cameras = []
-    for step in range(CAMERA_EVERY_STEPS * SHOT_TOP_FRAME_EVERY * 2):
+    for step in range(CAMERA_EVERY_STEPS * P.head.shot_top_frame_every * 2):
         agent.step = step
         agent._camera = CameraPosition.BOTTOM
         agent._strike(Pose2D(1.0, 0.0, 0.6), ball, None, 1.0, (0.0, 0.0))  # in range, not yet aligned
@@ -542,7 +545,7 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal_in_
     (pushing on drifted the ball out); facing the line, or its own goal in its own half, it turns
     round the ball first; in the opponent half it may push it back along the line; ten seconds
     later the same striker at the same ball plays as in open play."""
-    from agents.team.agent import DT_S, QUICK_PUSH_S, QUICK_TOUCH_S
+    from agents.team.agent import DT_S
 
     ball_xy = (0.5, 1.6)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
@@ -562,12 +565,12 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal_in_
     agent = after_throw_in(1.0)
     motion, walk = strike(agent, along)
     assert motion.is_kick or (motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0)  # played forward at once
-    agent.step += round(QUICK_PUSH_S / DT_S) - 1
+    agent.step += round(P.throw_in.quick_push_s / DT_S) - 1
     assert strike(agent, along) == (motion, walk)  # still its first touch
     agent.step += 1
     motion, walk = strike(agent, along)
     assert not motion.is_kick and walk[2] != 0.0  # then open play: it turns round the ball to face the goal
-    motion, walk = strike(after_throw_in(QUICK_TOUCH_S + 1.0), along)
+    motion, walk = strike(after_throw_in(P.throw_in.quick_touch_s + 1.0), along)
     assert not motion.is_kick and walk[2] != 0.0  # open play
     motion, walk = strike(after_throw_in(1.0), Pose2D(along.x, along.y, math.radians(100.0)))
     assert not motion.is_kick and walk[2] != 0.0  # facing the side line: round the ball, never through it
@@ -611,7 +614,6 @@ def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -
     throw-in drill); ten seconds later, in open play, it orbits the ball as before."""
     from agents.behavior import skills
     from agents.behavior.aim import restart_aim
-    from agents.team.agent import QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S
 
     ball_xy, attack = (-0.5, 1.6), 1.0
     pose = Pose2D(-0.2, 1.4, math.radians(150.0))
@@ -627,10 +629,10 @@ def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -
         return walk
 
     aim = restart_aim(ball_xy, pose.theta, attack)
-    waypoint = skills.behind_ball(pose, ball_xy, aim.xy, QUICK_GO_BEHIND_BEYOND_M)
+    waypoint = skills.behind_ball(pose, ball_xy, aim.xy, P.throw_in.quick_go_behind_beyond_m)
     assert waypoint is not None and skills.behind_ball(pose, ball_xy, aim.xy) is None
     assert strike(1.0) == skills.walk_to(pose, waypoint)[1]
-    assert strike(QUICK_TOUCH_S + 1.0) != skills.walk_to(pose, waypoint)[1]
+    assert strike(P.throw_in.quick_touch_s + 1.0) != skills.walk_to(pose, waypoint)[1]
 
 
 def test_a_striker_on_the_opponent_side_of_a_throw_in_s_ball_plays_it_back_along_the_line() -> None:
@@ -656,7 +658,6 @@ def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_
     side-steps the ball to a foot for a kick, as in open play. Facing the side line instead, it never
     pushes the ball out: it steps to the ball's side, for a tap along the line."""
     from agents.behavior.skills import PUSH_MPS
-    from agents.team.agent import LATE_TOUCH_AFTER_S
 
     ball_xy, way = (0.5, 1.6), math.radians(-30.0)  # 30 degrees into the field from the side line at +y
     pose = Pose2D(ball_xy[0] - 0.25 * math.cos(way), ball_xy[1] - 0.25 * math.sin(way), way)
@@ -670,12 +671,12 @@ def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_
         motion, walk, _ = agent._strike(robot, ball, None, 1.0, (0.0, 0.0))
         return motion, walk
 
-    motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, pose)
+    motion, walk = strike(P.throw_in.late_touch_after_s + 0.5, pose)
     assert motion is Motion.WALK and walk == pytest.approx((PUSH_MPS, 0.0, 0.0), abs=1e-6)
     motion, walk = strike(1.0, pose)
     assert motion is Motion.WALK and walk[0] < PUSH_MPS and walk[1] != 0.0
     toward_line = Pose2D(ball_xy[0], ball_xy[1] - 0.25, math.pi / 2)
-    motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, toward_line)
+    motion, walk = strike(P.throw_in.late_touch_after_s + 0.5, toward_line)
     assert motion is Motion.WALK and walk[0] < 0.1 and abs(walk[1]) > 0.05  # beside the ball (a tap), not through it
 
 
@@ -684,7 +685,7 @@ def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() 
     line for the referee at first, but once the ball was believed out for longer than the referee
     takes to put it back, it plays it as a ball just inside (both teams' strikers once waited 70 s)."""
     from agents.behavior import skills
-    from agents.team.agent import DT_S, OUT_WAIT_S, _throw_in_wait_pose
+    from agents.team.agent import DT_S, _throw_in_wait_pose
 
     pose = Pose2D(-0.32, -1.63, -0.16)
     believed, inside = (-0.04, -2.12), (-0.04, -2.0 + 0.05)
@@ -698,11 +699,11 @@ def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() 
         ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.05, 0.0)
         return agent._strike(pose, ball, None, -1.0, (0.0, 0.0), restart)
 
-    waiting = strike(believed, OUT_WAIT_S - DT_S)
+    waiting = strike(believed, P.ball_out.out_wait_s - DT_S)
     # nobody of its team kicked: the other team put it out, and the referee puts it 1 m toward their goal
     spot = throw_in_spot(believed[0], believed[1], False, GoalColor.BLUE)
-    assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(spot, -1.0))
-    playing = strike(believed, OUT_WAIT_S + DT_S)
+    assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(spot, -1.0, P.ball_out.throw_in_wait_back_m))
+    playing = strike(believed, P.ball_out.out_wait_s + DT_S)
     assert playing == strike(inside, 0.0) and playing != waiting
 
 
@@ -752,8 +753,8 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
 
     spot = restart(lambda agent: None)
     motion, walk, _ = agent._strike(pose, _relative(pose, rolling), rolling, 1.0, (0.0, 0.0), spot)
-    assert (motion, walk) == skills.walk_to(pose, _throw_in_wait_pose(spot, 1.0))
-    assert _throw_in_wait_pose(spot, 1.0) == Pose2D(1.2, line_y, 0.0)  # behind it, facing the opponent goal
+    assert (motion, walk) == skills.walk_to(pose, _throw_in_wait_pose(spot, 1.0, P.ball_out.throw_in_wait_back_m))
+    assert _throw_in_wait_pose(spot, 1.0, P.ball_out.throw_in_wait_back_m) == Pose2D(1.2, line_y, 0.0)  # behind it, facing the opponent goal
 
 
 def test_the_striker_of_a_ball_going_out_is_the_robot_nearest_the_spot_it_comes_back_on() -> None:
@@ -855,7 +856,6 @@ def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_
     walk round it: it walks to the spot where it faces the line with the ball beside a foot, and side-steps
     into the ball, tapping it along the line, toward the opponent goal in its own half."""
     from agents.behavior import skills
-    from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 
     ball_xy = (-1.0 * attack, 1.6)  # in the robot's own half
     tap_to = attack  # along the line toward the opponent goal
@@ -871,12 +871,12 @@ def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_
 
     far = Pose2D(ball_xy[0] - 0.2 * attack, 0.8, math.radians(90.0))
     _, walk = strike(far, _to_robot(far, ball_xy))
-    spot = Pose2D(ball_xy[0] - tap_to * SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.radians(90.0))
+    spot = Pose2D(ball_xy[0] - tap_to * P.side_tap.side_m, ball_xy[1] - P.side_tap.forward_m, math.radians(90.0))
     assert walk == skills.walk_to(far, spot)[1]  # to the tap's spot, not round the ball
 
-    facing_the_line = Pose2D(ball_xy[0] - tap_to * SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.radians(90.0))
+    facing_the_line = Pose2D(ball_xy[0] - tap_to * P.side_tap.side_m, ball_xy[1] - P.side_tap.forward_m, math.radians(90.0))
     beside = _to_robot(facing_the_line, ball_xy)  # the ball ahead and to the side the tap goes
-    assert beside == pytest.approx((SIDE_TAP_FORWARD_M, -tap_to * SIDE_TAP_SIDE_M))
+    assert beside == pytest.approx((P.side_tap.forward_m, -tap_to * P.side_tap.side_m))
     agent, walk = strike(facing_the_line, beside)
     assert walk[0] == pytest.approx(0.0, abs=0.02) and walk[1] == pytest.approx(-tap_to * skills.WALK_HIGH[1])
     c, s = math.cos(facing_the_line.theta), math.sin(facing_the_line.theta)
@@ -906,18 +906,17 @@ def test_past_a_ball_far_from_its_own_goal_line_the_striker_taps_it_back_along_t
     ball 1.9 m from its own goal line, the striker taps it back along the line from where it stands (a
     robot 1 m from such a ball once walked round it and touched it after 10 s)."""
     from agents.behavior import skills
-    from agents.team.agent import BACK_TAP_CLEAR_M, SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
     agent.step = 1000
     agent._drop_in_at_s = agent.now_s - 2.0
     pose, ball_xy, attack = Pose2D(-0.8, 0.8, math.radians(135.0)), (-1.1, 1.6), 1.0
-    assert FIELD.half_length + attack * ball_xy[0] >= BACK_TAP_CLEAR_M
+    assert FIELD.half_length + attack * ball_xy[0] >= P.side_tap.back_tap_clear_m
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
     walk = agent._side_tap(pose, ball, ball_xy, attack)
     assert agent._side_tap_along == -attack  # back toward its own goal, away from the robot
-    spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.pi / 2)
+    spot = Pose2D(ball_xy[0] + P.side_tap.side_m, ball_xy[1] - P.side_tap.forward_m, math.pi / 2)
     assert walk == skills.walk_to(pose, spot)[1]  # to the tap's place on its own side of the ball
 
 
@@ -926,7 +925,6 @@ def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps
     carries the believed ball over the centre line does not turn it round (a striker once side-stepped
     0.4 m past the ball, to the far side of its tap, while the other team came and touched first)."""
     from agents.behavior import skills
-    from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
@@ -939,7 +937,7 @@ def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps
     chosen = agent._side_tap(jumped, ball, (ball_xy[0] + 0.2, ball_xy[1]), 1.0)
     assert chosen is not None  # in the other half the tap goes away from the robot: toward the own goal
     walk = agent._side_tap(pose, ball, ball_xy, 1.0)
-    spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] + SIDE_TAP_FORWARD_M, -math.pi / 2)
+    spot = Pose2D(ball_xy[0] + P.side_tap.side_m, ball_xy[1] + P.side_tap.forward_m, -math.pi / 2)
     assert walk == skills.walk_to(pose, spot)[1]  # still the spot on the robot's side of the ball
 
 
@@ -949,11 +947,11 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
     moved from there is played as in open play."""
     from agents.behavior import skills
     from agents.behavior.aim import restart_aim
-    from agents.team.agent import DT_S, QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S, QUICK_UNTOUCHED_S
+    from agents.team.agent import DT_S
 
     ball_xy, attack = (-0.5, 1.6), 1.0
     pose = Pose2D(-0.2, 1.4, math.radians(150.0))  # as above: the quick touch walks round to behind the ball
-    waypoint = skills.behind_ball(pose, ball_xy, restart_aim(ball_xy, pose.theta, attack).xy, QUICK_GO_BEHIND_BEYOND_M)
+    waypoint = skills.behind_ball(pose, ball_xy, restart_aim(ball_xy, pose.theta, attack).xy, P.throw_in.quick_go_behind_beyond_m)
     assert waypoint is not None
     quick_walk = skills.walk_to(pose, waypoint)[1]
 
@@ -969,11 +967,11 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
         ball = BallEstimate(*_to_robot(pose, at_xy), 0.0, 0.0, 0.02, 0.0)
         return agent._strike(pose, ball, None, attack, (0.0, 0.0))[1]
 
-    assert strike(QUICK_TOUCH_S + 1.0, ball_xy, saw_it=True) == quick_walk
-    assert strike(QUICK_TOUCH_S + 1.0, ball_xy, saw_it=False) != quick_walk  # open play
+    assert strike(P.throw_in.quick_touch_s + 1.0, ball_xy, saw_it=True) == quick_walk
+    assert strike(P.throw_in.quick_touch_s + 1.0, ball_xy, saw_it=False) != quick_walk  # open play
     moved = (ball_xy[0] + 0.4, ball_xy[1])
-    assert strike(QUICK_TOUCH_S + 1.0, moved, saw_it=True) == strike(QUICK_TOUCH_S + 1.0, moved, saw_it=False)
-    assert strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=True) == strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=False)
+    assert strike(P.throw_in.quick_touch_s + 1.0, moved, saw_it=True) == strike(P.throw_in.quick_touch_s + 1.0, moved, saw_it=False)
+    assert strike(P.throw_in.quick_untouched_s + 1.0, ball_xy, saw_it=True) == strike(P.throw_in.quick_untouched_s + 1.0, ball_xy, saw_it=False)
 
 
 @pytest.mark.parametrize("ball_xy, age_s, looks", [((0.5, 0.2), 1.0, True), ((0.9, 0.08), 1.2, True),
@@ -991,7 +989,7 @@ def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_fa
     unsure as its age makes it: a look that asked for a sure belief (sigma 0.25 m, 0.75 s unseen) once swept past a
     ball 0.9 m ahead for 4.7 s."""
     from agents.modelling.ball_model import BallModel
-    from agents.team.agent import BALL_LOST_S, DT_S
+    from agents.team.agent import DT_S
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
@@ -1006,5 +1004,5 @@ def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_fa
         model.predict(DT_S, Displacement())
     ball = model.relative()
     assert ball.age_s == pytest.approx(age_s, abs=DT_S) and ball.x == pytest.approx(ball_xy[0], abs=0.01)
-    head = agent._head(pose, ball if age_s <= BALL_LOST_S else None, None)
+    head = agent._head(pose, ball if age_s <= P.ball.lost_s else None, None)
     assert (head == pytest.approx(agent._look_at(ball))) is looks

@@ -69,6 +69,7 @@ from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
+from agents.team.params import TeamParams
 from agents.team.messages import DecodeStats, Intention, Role, TeamMessage, decode
 from agents.team.report import landmarks_seen
 from agents.vision.ball import ball_in_mask, plausible
@@ -106,82 +107,15 @@ DT_S = skills.CONTROL_STEP_S
 DEFAULT_METHOD = "particle"
 CAMERA_EVERY_STEPS = 2
 RADIO_EVERY_STEPS = 5  # one packet per 0.2 s: the radio's budget
-BALL_LOST_S = 2.0  # the own ball is trusted this long without a sighting
-TRACK_BALL_S = 0.6  # younger than this, the head follows the ball; older, it searches, ...
-LOOK_AT_NEAR_BALL_M = 1.0  # ... but a ball believed this near, where a frame would show it, is looked at there
-# until it is seen or lost (BALL_LOST_S), however unsure the model has grown (while it is sure, the frames that miss
-# it forget it sooner: agents.modelling.ball_absence); a far belief is often stale and hidden (a ball kicked away
-# behind robots), and one behind the robot cannot be seen
-GLANCE_EVERY_S = 4.0  # with an uncertain pose, glance at a goal this often ...
-GLANCE_S = 0.8  # ... for this long
-UNCERTAIN_M = 0.25
-UPRIGHT_ACCELERATION_MPS2 = 8.0  # torso z reads g cos(tilt): below this (low-passed) the robot is falling
-UPRIGHT_SMOOTHING = 0.2  # the low-pass weight of a new reading: walking shakes single readings to 6-14 m/s^2
-SETTLED_GYRO_RADPS = 1.0  # a fallen robot turning slower than this lies still: it may choose its stand-up
-FALL_SIGMA_M = 0.2  # a fall adds this much position uncertainty ...
-FALL_SIGMA_RAD = math.radians(60.0)  # ... and this much heading uncertainty (a fall turns the body by up to 90 degrees)
-KICK_ALIGN_RAD = math.radians(35.0)  # kick only when facing the goal within this (pose estimate)
-OWN_GOAL_AHEAD_RAD = math.radians(50.0)  # never kick with the own goal seen within this of ahead ...
-OWN_GOAL_MEMORY_S = 3.0  # ... in the last seconds
-CONTEST_BALL_M = 0.7  # a striker this near its ball does not step around robots
-SHOOTING_RANGE_M = 3.0  # nearer the goal than a kick rolls, kick only into the open part of its mouth (shot_window) ...
-POST_MARGIN_M = 0.15  # ... or, without one, between the posts this far inside them (a kick along such a line is a
-# shot: it may roll on toward a side line); a ball on their goal line is pushed in (agents.behavior.aim)
-PENALTY_LOOK_S = 1.5  # a penalty kicker looks at the goal this long of the kick's SET (3 s), then at the ball
-KICK_PAST_NEAR_M = skills.GO_BEHIND_BEYOND_M  # a striker this near its ball in open play kicks past the robots in
-# the way (agents.behavior.kick_past): nearer than where it would walk round the ball for a new aim
-SHOT_TOP_FRAME_EVERY = 3  # lining a kick up with the ball at its feet, every this many frames come from the top camera
-FOLLOW_KICK_S = 3.0  # after its kick, a striker that lost the ball looks and walks ahead this long ...
-FOLLOW_KICK_MPS = 0.15
-THROW_IN_WAIT_BACK_M = 0.3  # a striker waits for a ball going out this far on its own side of the rule's spot ...
-OUT_WAIT_S = 3.0  # ... the ball believed out this long at most: the referee puts a ball back 2 s after it left
-# (believed out longer: it is in)
-TEAMMATE_KICK_HEARD_S = 0.3  # a teammate's message this fresh saying it kicks: the own team touched the ball
-IN_FIELD_MARGIN_M = 0.05  # such a ball is played where it is believed, moved this far inside the line
-DROP_IN_SPOT_S = 12.0  # after a throw-in, the ball is believed at the rule's spot this long, until someone sees it
-DROP_IN_SPOT_SIGMA_M = 0.6  # how sure that belief is (the spot comes from where the ball was last believed)
-QUICK_TOUCH_S = 10.0  # this long after a throw-in, with the ball still near the throw-in line, ...
-QUICK_UNTOUCHED_S = 20.0  # ... or up to this long while it still lies where the robot first saw it after the
-QUICK_UNTOUCHED_M = 0.3  # put-back, within this (its field position flickers with the pose estimate by 0.2 m), ...
-QUICK_TOUCH_BAND_M = 0.3  # ... (this near it) the striker takes the quickest safe first touch (agents.behavior.aim)
-QUICK_PUSH_RAD = math.radians(20.0)  # ... pushing the ball when it faces the touch's aim within this and may not kick,
-QUICK_PUSH_S = 1.0  # ... for this long: then it plays on as in open play (pushing on drifts the ball out over the line)
-QUICK_STEP_WITHIN_M = 0.5  # ... nearer the ball than this, the touch goes the way the robot faces (clipped) ...
-QUICK_STEP_RAD = math.radians(45.0)  # ... and facing it within this, the robot steps to the ball without turning to it
-QUICK_GO_BEHIND_BEYOND_M = 0.25  # ... else it walks round to the spot behind the ball until this near it (in open
-# play it orbits the ball from skills.GO_BEHIND_BEYOND_M on; the throw-in drill's first touches came 0.5 s sooner)
-LATE_TOUCH_AFTER_S = 5.0  # a striker that comes this late to a throw-in's ball (within QUICK_STEP_WITHIN_M) ...
-LATE_TOUCH_BEARING_RAD = math.radians(20.0)  # ... this near straight ahead, facing the touch's aim within QUICK_PUSH_RAD,
-# walks on through it (a push): no slowing down, no side-step to a foot, no kick (together about 1.5 s)
-SIDE_TAP_APPROACH_RAD = math.radians(50.0)  # a striker on the field side of a throw-in's ball, coming at it within
-# this of square to the line or facing the line within this, taps it along the line: it stands facing the line
-# with the ball beside a foot
-SIDE_TAP_BEYOND_M = 0.1  # ... unless it stands farther than this past the ball the way the tap goes (in its own
-# half, toward the opponent goal): it would walk round the ball to its place; ...
-BACK_TAP_CLEAR_M = 1.5  # ... with the ball this far from its own goal line or farther, it taps it back toward
-# its own goal instead (a robot 1 m from the ball once walked round it for 10 s)
-SIDE_TAP_FORWARD_M = 0.07  # ... this far ahead ...
-SIDE_TAP_SIDE_M = 0.16  # ... and this far to the side the tap goes, and side-steps into it
-SIDE_TAP_WITHIN_M = 0.04  # ... once the ball lies this near that spot (and the robot faces the line within
-SIDE_TAP_FACE_RAD = math.radians(20.0)  # this), ...
-SIDE_TAP_KEEP_S = 0.5  # ... and keeps side-stepping while it did so this recently
-SIDE_TAP_NEAR_M = 0.5  # the ball this near: the spot is reached by the ball's sighting, not the pose estimate, ...
-SIDE_TAP_LINED_UP_M = 0.06  # ... sideways first, the ball kept this far ahead (clear of the feet) until it lies
-SIDE_TAP_CLEAR_M = 0.22  # ... within this of its place to the side
-SIDE_TAP_TOUCH_M = 0.12  # the ball this near the robot's centre line, sideways: the tap touched it
-SIDE_TAP_GAIN_PER_S = 1.5
-LOOK_FOR_TEAM_BALL_S = 2.0  # without its own ball: of every cycle, look this long where the team believes it ...
-SEARCH_CYCLE_S = 5.0  # ... and sweep the head for the rest
-KICKOFF_FREE_S = 10.0  # the other team's kick-off: the ball is free this long after PLAYING began at most (rules) ...
-KICKOFF_PLAYED_M = 0.5  # ... or once believed this far from the centre spot; until then, and ...
-KICKOFF_LANE_S = 2.0  # ... this long after, the defender and the supporter hold their places, out of the kick's lane
 
 
 class TeamAgent:
     """The ``team`` policy (:class:`match.protocol.policy.Policy` and ``PoseReporter``)."""
 
-    def __init__(self, method: str = DEFAULT_METHOD, avoid_obstacles: bool = True, camera_model: str = "exact"):
+    def __init__(self, method: str = DEFAULT_METHOD, avoid_obstacles: bool = True, camera_model: str = "exact",
+                 params: TeamParams | None = None):
         self.method = method
+        self.params = TeamParams.default() if params is None else params
         self.avoid_obstacles = avoid_obstacles
         self.pipeline = VisionPipeline(camera_model)
         self.reset("home_1", 0)
@@ -276,10 +210,10 @@ class TeamAgent:
 
     def _frame_camera(self) -> CameraPosition:
         """The camera of this step's frame: the one the head chose, but while the striker lines up a kick with
-        the ball at its feet (bottom camera), every :data:`SHOT_TOP_FRAME_EVERY`-th frame the top one, which
+        the ball at its feet (bottom camera), every ``head.shot_top_frame_every``-th frame the top one, which
         sees the robots in front of it (the shot window's blockers, those a kick must pass) and the goal's posts."""
         frame = self.step // CAMERA_EVERY_STEPS
-        if self._lining_up_s == self.now_s and frame % SHOT_TOP_FRAME_EVERY == 0:
+        if self._lining_up_s == self.now_s and frame % self.params.head.shot_top_frame_every == 0:
             return CameraPosition.TOP
         return self._camera
 
@@ -300,9 +234,9 @@ class TeamAgent:
         turn as the gyro measured it (it also feels pushes and collisions)."""
         walking = obs.motion is Motion.WALK
         vx, vy, _ = self._walk if walking else skills.STILL
-        self._acceleration_z += UPRIGHT_SMOOTHING * (obs.accelerometer_mps2[2] - self._acceleration_z)
+        self._acceleration_z += self.params.posture.upright_smoothing * (obs.accelerometer_mps2[2] - self._acceleration_z)
         upright = (not obs.fallen and not (obs.motion is not None and obs.motion.is_stand_up)
-                   and self._acceleration_z > UPRIGHT_ACCELERATION_MPS2)
+                   and self._acceleration_z > self.params.posture.upright_acceleration_mps2)
         omega = obs.gyro_radps[2] if upright else 0.0
         if upright:
             self.unjam.observe(self._walk[2] if walking else 0.0, omega)
@@ -314,7 +248,7 @@ class TeamAgent:
         self.obstacles.predict(moved, DT_S)
         self.obstacles.hear_sonar(obs.sonar_m)
         if obs.fallen and not self._was_fallen:
-            self.locator.fell(FALL_SIGMA_M, FALL_SIGMA_RAD)
+            self.locator.fell(self.params.posture.fall_sigma_m, self.params.posture.fall_sigma_rad)
             self._fall_sequence = obs.last_motion_sequence
         self._was_fallen = obs.fallen
 
@@ -333,7 +267,7 @@ class TeamAgent:
         self.locator.update(result.percepts)
         own_goal = obs.game.defended_goal
         for percept in result.percepts:
-            if percept.goal is own_goal and abs(percept.bearing_rad) < OWN_GOAL_AHEAD_RAD:
+            if percept.goal is own_goal and abs(percept.bearing_rad) < self.params.kick.own_goal_ahead_rad:
                 self._own_goal_ahead_s = self.now_s
         mask = result.segmented == int(ColorClass.ORANGE)
         ball = ball_in_mask(mask, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
@@ -462,20 +396,20 @@ class TeamAgent:
 
     def _holds_kickoff_lane(self, obs: Observation, ball: BallEstimate | None) -> bool:
         """Whether this defender or supporter holds its place at the other team's kick-off: until the ball
-        is believed played (:data:`KICKOFF_PLAYED_M` from the centre spot) and :data:`KICKOFF_LANE_S` after,
-        within :data:`KICKOFF_FREE_S` of the kick-off. Walking up from its kick-off place at once, it crossed
+        is believed played (``kickoff.played_m`` from the centre spot) and ``kickoff.lane_s`` after,
+        within ``kickoff.free_s`` of the kick-off. Walking up from its kick-off place at once, it crossed
         the lane of the kick past the striker, 1.5 m away a second later, and its legs turned the ball
         toward its own goal."""
-        if ball is not None and math.hypot(ball.x, ball.y) >= KICKOFF_PLAYED_M:
+        if ball is not None and math.hypot(ball.x, ball.y) >= self.params.kickoff.played_m:
             self._kickoff_played_s = min(self._kickoff_played_s, self.now_s)
         if obs.game.kickoff is not KickOff.OPPONENT or self.role not in (Role.DEFENDER, Role.SUPPORTER):
             return False
-        return (self.now_s - self._state_since_s < KICKOFF_FREE_S
-                and self.now_s - self._kickoff_played_s < KICKOFF_LANE_S)
+        return (self.now_s - self._state_since_s < self.params.kickoff.free_s
+                and self.now_s - self._kickoff_played_s < self.params.kickoff.lane_s)
 
     def _own_ball(self) -> BallEstimate | None:
         rel = self.ball.relative()
-        return rel if rel is not None and rel.age_s <= BALL_LOST_S else None
+        return rel if rel is not None and rel.age_s <= self.params.ball.lost_s else None
 
     def _team_ball(self, pose: Pose2D, ball_rel: BallEstimate | None) -> BallEstimate | None:
         own = None
@@ -484,8 +418,8 @@ class TeamAgent:
         best = self.team.team_ball(own, self.now_s, max_age_s=self.now_s - self._drop_in_at_s)
         team = None if best is None else best[0]
         since_drop_in = self.now_s - self._drop_in_at_s
-        if team is None and self._drop_in_spot is not None and since_drop_in < DROP_IN_SPOT_S:
-            team = BallEstimate(*self._drop_in_spot, 0.0, 0.0, DROP_IN_SPOT_SIGMA_M, since_drop_in)
+        if team is None and self._drop_in_spot is not None and since_drop_in < self.params.ball.drop_in_spot_s:
+            team = BallEstimate(*self._drop_in_spot, 0.0, 0.0, self.params.ball.drop_in_spot_sigma_m, since_drop_in)
         if team is not None:
             self._last_ball_xy = (team.x, team.y)
             if not out_of_field(self._last_ball_xy):
@@ -500,8 +434,8 @@ class TeamAgent:
 
     def _expected_restart(self, ball: BallEstimate | None, defended: GoalColor) -> tuple[float, float] | None:
         """Where the referee will put back the team's ball (field frame), if it is going out or out
-        (believed out for less than :data:`OUT_WAIT_S`); else None (:mod:`agents.modelling.ball_out`)."""
-        if ball is None or self.now_s - self._ball_in_s >= OUT_WAIT_S:
+        (believed out for less than ``ball_out.out_wait_s``); else None (:mod:`agents.modelling.ball_out`)."""
+        if ball is None or self.now_s - self._ball_in_s >= self.params.ball_out.out_wait_s:
             return None
         out = leaving_point(ball)
         if out is None:
@@ -513,7 +447,7 @@ class TeamAgent:
         last step, or a teammate's fresh message says it does (the guess of who put a ball out,
         :meth:`_expected_restart`)."""
         if self.intention is Intention.KICK or any(
-                m.message.intention is Intention.KICK and m.age_s < TEAMMATE_KICK_HEARD_S
+                m.message.intention is Intention.KICK and m.age_s < self.params.ball_out.teammate_kick_heard_s
                 for m in self.team.teammates(self.now_s)):
             self._own_touch_s = self.now_s
 
@@ -539,9 +473,9 @@ class TeamAgent:
 
     def _keeper_clears(self, ball_rel: BallEstimate | None, pose: Pose2D, attack: float) -> bool:
         """The goalkeeper leaves its line for a ball close to it in its own goal area."""
-        if ball_rel is None or ball_rel.distance_m > 0.6:
+        if ball_rel is None or ball_rel.distance_m > self.params.keeper.clear_ball_within_m:
             return False
-        return pose.x * attack < -FIELD.half_length + 0.9
+        return pose.x * attack < -FIELD.half_length + self.params.keeper.clear_area_depth_m
 
     def _strike(self, pose: Pose2D, ball_rel: BallEstimate | None, ball_field: BallEstimate | None, attack: float,
                 head: tuple[float, float], restart: tuple[float, float] | None = None
@@ -551,13 +485,13 @@ class TeamAgent:
         if ball_rel is None and ball_field is None:
             self.intention = Intention.SEARCH
             if self._just_kicked():  # follow the kick before turning round to search
-                return Motion.WALK, skills.walk_command(FOLLOW_KICK_MPS, 0.0, 0.0), head
+                return Motion.WALK, skills.walk_command(self.params.kick.follow_kick_mps, 0.0, 0.0), head
             if not self._near_sweep.swept:  # the head looks near the feet first: stand while it does
                 return Motion.STAND, skills.STILL, head
             return Motion.WALK, skills.walk_command(0.0, 0.0, skills.SEARCH_TURN_RADPS), head
         self.intention = Intention.GO_TO_BALL
         if restart is not None:
-            motion, walk = skills.walk_to(pose, _throw_in_wait_pose(restart, attack))
+            motion, walk = skills.walk_to(pose, _throw_in_wait_pose(restart, attack, self.params.ball_out.throw_in_wait_back_m))
             return motion, walk, head
         goal_x = FIELD.half_length * attack
         ball_xy = (ball_field.x, ball_field.y) if ball_rel is None else _in_field(pose, ball_rel)
@@ -566,28 +500,28 @@ class TeamAgent:
             motion, walk = hold_off(pose, ball_xy, attack)
             return motion, walk, head
         if out_of_field(ball_xy):  # not put back: it lies on a line, believed a little beyond it
-            ball_xy = _into_field(ball_xy)
+            ball_xy = _into_field(ball_xy, self.params.ball.in_field_margin_m)
         aim = goal_aim = kick_aim(ball_xy, attack, pose.y)
         shot = None
         goal_line = on_their_goal_line(ball_xy, attack)
         if (not aim.clearing and not goal_line
-                and math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M):
+                and math.hypot(goal_x - ball_xy[0], ball_xy[1]) < self.params.kick.shooting_range_m):
             shot = shot_window(ball_xy, goal_x, self._robots_in_field(pose), self._shot_direction_rad)
             self._shot_direction_rad = shot.direction_rad
             if ball_rel is not None and ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
                 self._lining_up_s = self.now_s
             aim = goal_aim = Aim(*shot.aim_xy, False)
-        elif not aim.clearing and not goal_line and ball_rel is not None and ball_rel.distance_m < KICK_PAST_NEAR_M:
+        elif not aim.clearing and not goal_line and ball_rel is not None and ball_rel.distance_m < self.params.kick.kick_past_near_m:
             shot = kick_past(ball_xy, goal_x, self._robots_in_field(pose), self._past_direction_rad)
             self._past_direction_rad = None if shot is None else shot.direction_rad
             if ball_rel.distance_m < skills.BOTTOM_CAMERA_BELOW_M:
                 self._lining_up_s = self.now_s
             if shot is not None:
                 aim = goal_aim = Aim(*shot.aim_xy, False)
-        if ball_rel is not None and self._put_back_seen_xy is None and self.now_s - self._drop_in_at_s < QUICK_TOUCH_S:
+        if ball_rel is not None and self._put_back_seen_xy is None and self.now_s - self._drop_in_at_s < self.params.throw_in.quick_touch_s:
             self._put_back_seen_xy = ball_xy
         quick = self._quick_touch(ball_xy)
-        near = ball_rel is not None and ball_rel.distance_m < QUICK_STEP_WITHIN_M
+        near = ball_rel is not None and ball_rel.distance_m < self.params.throw_in.quick_step_within_m
         if quick:
             way = pose.theta if near else math.atan2(ball_xy[1] - pose.y, ball_xy[0] - pose.x)
             aim = restart_aim(ball_xy, way, attack, self._restart_aim_rad)
@@ -596,11 +530,11 @@ class TeamAgent:
             motion, walk = skills.walk_to(pose, skills.approach_pose(pose, ball_xy, aim.xy))
             return motion, walk, head
         stalled = self.stall.pushing(self.now_s, ball_xy, ball_rel.distance_m < STALL_NEAR_M)
-        if stalled and push_allowed(pose.theta, attack) and self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S:
+        if stalled and push_allowed(pose.theta, attack) and self.now_s - self._own_goal_ahead_s >= self.params.kick.own_goal_memory_s:
             self.intention = Intention.KICK  # a stalled ball (agents.behavior.stall): walk on through it
             return Motion.WALK, skills.push(ball_rel), head
         heading_error = _heading_error(pose, ball_xy, aim.xy)
-        steps = quick and near and abs(heading_error) <= QUICK_STEP_RAD
+        steps = quick and near and abs(heading_error) <= self.params.throw_in.quick_step_rad
         if quick and not steps:
             tap = self._side_tap(pose, ball_rel, ball_xy, attack)
             if tap is not None:
@@ -608,7 +542,7 @@ class TeamAgent:
         if steps:
             motion, walk = self._quick_step(pose, ball_rel, ball_xy, goal_aim.xy, goal_x, heading_error, shot)
             return motion, walk, head
-        beyond_m = QUICK_GO_BEHIND_BEYOND_M if quick else skills.GO_BEHIND_BEYOND_M
+        beyond_m = self.params.throw_in.quick_go_behind_beyond_m if quick else skills.GO_BEHIND_BEYOND_M
         waypoint = skills.behind_ball(pose, ball_xy, aim.xy, beyond_m)
         if waypoint is not None:
             motion, walk = skills.walk_to(pose, waypoint)
@@ -630,47 +564,47 @@ class TeamAgent:
 
     def _quick_touch(self, ball_xy: tuple[float, float]) -> bool:
         """Whether the ball, believed at ``ball_xy``, still waits for a throw-in's first touch: a throw-in
-        less than :data:`QUICK_TOUCH_S` ago, or less than :data:`QUICK_UNTOUCHED_S` ago with the ball still
+        less than ``throw_in.quick_touch_s`` ago, or less than ``throw_in.quick_untouched_s`` ago with the ball still
         where the robot first saw it after the put-back, and the ball still near the throw-in line. (A
         striker 0.4 m from the ball, lined up for its tap 10 s after the put-back, once turned to play
         it as in open play instead and touched it 4.6 s later.)"""
-        if self._first_touch_s >= self._drop_in_at_s and self.now_s - self._first_touch_s >= QUICK_PUSH_S:
+        if self._first_touch_s >= self._drop_in_at_s and self.now_s - self._first_touch_s >= self.params.throw_in.quick_push_s:
             return False  # its first touch is taken
         since_s = self.now_s - self._drop_in_at_s
-        if since_s >= QUICK_TOUCH_S:
+        if since_s >= self.params.throw_in.quick_touch_s:
             seen = self._put_back_seen_xy
-            untouched = seen is not None and math.dist(seen, ball_xy) <= QUICK_UNTOUCHED_M
-            if since_s >= QUICK_UNTOUCHED_S or not untouched:
+            untouched = seen is not None and math.dist(seen, ball_xy) <= self.params.throw_in.quick_untouched_m
+            if since_s >= self.params.throw_in.quick_untouched_s or not untouched:
                 return False
         line_y = FIELD.half_width - THROW_IN_INSET_M
-        return abs(abs(ball_xy[1]) - line_y) < QUICK_TOUCH_BAND_M
+        return abs(abs(ball_xy[1]) - line_y) < self.params.throw_in.quick_touch_band_m
 
     def _side_tap(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
                   attack: float) -> tuple[float, float, float] | None:
         """A throw-in's first touch for a striker on the field side of the ball that comes at it about square
-        to the side line or faces the line (:data:`SIDE_TAP_APPROACH_RAD`): it stands facing the line with
+        to the side line or faces the line (``side_tap.approach_rad``): it stands facing the line with
         the ball beside a foot and side-steps into it, tapping it along the line (toward the opponent goal
-        in the own half, or back from past the ball when the ball lies :data:`BACK_TAP_CLEAR_M` or more from
+        in the own half, or back from past the ball when the ball lies ``side_tap.back_tap_clear_m`` or more from
         the own goal line; else away from the robot's side), where walking round the ball to play it along
         the line took seconds. None when the robot comes at the ball otherwise, or stands past it the way
-        the tap goes (:data:`SIDE_TAP_BEYOND_M`). Chosen once per throw-in, the way included, from the ball's
+        the tap goes (``side_tap.beyond_m``). Chosen once per throw-in, the way included, from the ball's
         sighting and the robot's heading: a jump of the position estimate that carries the ball over the
         centre line must not turn the tap round (a striker once side-stepped 0.4 m past the ball for it)."""
         side = 1.0 if ball_xy[1] >= 0.0 else -1.0
-        tapping = self.now_s - self._side_tap_s < SIDE_TAP_KEEP_S
+        tapping = self.now_s - self._side_tap_s < self.params.side_tap.keep_s
         if self._side_tap_for_s != self._drop_in_at_s:  # not chosen yet for this throw-in
             dx, dy = _in_field(Pose2D(0.0, 0.0, pose.theta), ball_rel)  # the ball from the robot by its sighting
             if attack * ball_xy[0] < 0.0:  # own half: toward the opponent goal, or back from past the ball
                 along = attack
-                if attack * dx < -SIDE_TAP_BEYOND_M and FIELD.half_length + attack * ball_xy[0] >= BACK_TAP_CLEAR_M:
+                if attack * dx < -self.params.side_tap.beyond_m and FIELD.half_length + attack * ball_xy[0] >= self.params.side_tap.back_tap_clear_m:
                     along = -attack
             else:  # away from the robot's side
                 along = attack if abs(dx) < 1e-6 else math.copysign(1.0, dx)
             inside = side * dy
-            square = math.atan2(abs(dx), inside) <= SIDE_TAP_APPROACH_RAD
-            facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= SIDE_TAP_APPROACH_RAD
+            square = math.atan2(abs(dx), inside) <= self.params.side_tap.approach_rad
+            facing = abs(math.remainder(side * math.pi / 2 - pose.theta, math.tau)) <= self.params.side_tap.approach_rad
             beyond = -along * dx  # how far the robot is past the ball the way the tap goes
-            if inside < SIDE_TAP_FORWARD_M / 2 or not (square or facing) or beyond > SIDE_TAP_BEYOND_M:
+            if inside < self.params.side_tap.forward_m / 2 or not (square or facing) or beyond > self.params.side_tap.beyond_m:
                 return None
             self._side_tap_for_s = self._drop_in_at_s
             self._side_tap_along = along
@@ -678,22 +612,22 @@ class TeamAgent:
         face = side * math.pi / 2
         left_of_face = -along * side  # +1: the tap goes to the robot's left when it faces the line
         face_error = math.remainder(face - pose.theta, math.tau)
-        ball_side = left_of_face * SIDE_TAP_SIDE_M
-        if tapping or (abs(ball_rel.x - SIDE_TAP_FORWARD_M) < SIDE_TAP_WITHIN_M
-                       and abs(ball_rel.y - ball_side) < SIDE_TAP_WITHIN_M and abs(face_error) < SIDE_TAP_FACE_RAD):
+        ball_side = left_of_face * self.params.side_tap.side_m
+        if tapping or (abs(ball_rel.x - self.params.side_tap.forward_m) < self.params.side_tap.within_m
+                       and abs(ball_rel.y - ball_side) < self.params.side_tap.within_m and abs(face_error) < self.params.side_tap.face_rad):
             self._side_tap_s = self.now_s
             self.intention = Intention.KICK
-            if abs(ball_rel.y) < SIDE_TAP_TOUCH_M and self._first_touch_s < self._drop_in_at_s:
+            if abs(ball_rel.y) < self.params.side_tap.touch_m and self._first_touch_s < self._drop_in_at_s:
                 self._first_touch_s = self.now_s
-            return skills.walk_command(SIDE_TAP_GAIN_PER_S * (ball_rel.x - SIDE_TAP_FORWARD_M),
+            return skills.walk_command(self.params.side_tap.gain_per_s * (ball_rel.x - self.params.side_tap.forward_m),
                                        left_of_face * skills.WALK_HIGH[1], skills.TURN_GAIN_PER_S * face_error)
-        if ball_rel.distance_m < SIDE_TAP_NEAR_M:  # beside the ball first, then up to it: never walk into it
-            lined_up = abs(ball_rel.y - ball_side) < SIDE_TAP_LINED_UP_M
-            forward = SIDE_TAP_FORWARD_M if lined_up else SIDE_TAP_CLEAR_M
-            return skills.walk_command(SIDE_TAP_GAIN_PER_S * (ball_rel.x - forward),
-                                       SIDE_TAP_GAIN_PER_S * (ball_rel.y - ball_side),
+        if ball_rel.distance_m < self.params.side_tap.near_m:  # beside the ball first, then up to it: never walk into it
+            lined_up = abs(ball_rel.y - ball_side) < self.params.side_tap.lined_up_m
+            forward = self.params.side_tap.forward_m if lined_up else self.params.side_tap.clear_m
+            return skills.walk_command(self.params.side_tap.gain_per_s * (ball_rel.x - forward),
+                                       self.params.side_tap.gain_per_s * (ball_rel.y - ball_side),
                                        skills.TURN_GAIN_PER_S * face_error)
-        spot = Pose2D(ball_xy[0] - along * SIDE_TAP_SIDE_M, ball_xy[1] - side * SIDE_TAP_FORWARD_M, face)
+        spot = Pose2D(ball_xy[0] - along * self.params.side_tap.side_m, ball_xy[1] - side * self.params.side_tap.forward_m, face)
         return skills.walk_to(pose, spot)[1]
 
     def _quick_step(self, pose: Pose2D, ball_rel: BallEstimate, ball_xy: tuple[float, float],
@@ -710,11 +644,11 @@ class TeamAgent:
         return Motion.WALK, skills.step_to_ball(ball_rel, heading_error)
 
     def _late_touch(self, ball_rel: BallEstimate, heading_error: float) -> bool:
-        """Whether a throw-in's first touch is late (:data:`LATE_TOUCH_AFTER_S`) and the striker, near the
+        """Whether a throw-in's first touch is late (``throw_in.late_touch_after_s``) and the striker, near the
         ball (:meth:`_quick_step`), comes at it along the touch's aim: then it walks on through the ball
         (from kicking distance on, that push is its first touch)."""
-        if (self.now_s - self._drop_in_at_s < LATE_TOUCH_AFTER_S or abs(ball_rel.bearing_rad) >= LATE_TOUCH_BEARING_RAD
-                or abs(heading_error) > QUICK_PUSH_RAD):
+        if (self.now_s - self._drop_in_at_s < self.params.throw_in.late_touch_after_s or abs(ball_rel.bearing_rad) >= self.params.throw_in.late_touch_bearing_rad
+                or abs(heading_error) > self.params.throw_in.quick_push_rad):
             return False
         if ball_rel.distance_m < skills.KICK_DISTANCE_M and self._first_touch_s < self._drop_in_at_s:
             self._first_touch_s = self.now_s
@@ -724,12 +658,12 @@ class TeamAgent:
                      goal_aim_xy: tuple[float, float], goal_x: float, heading_error: float,
                      shot: ShotWindow | None) -> tuple[Motion, tuple[float, float, float]]:
         """A throw-in's first touch at the ball (``heading_error``: to the touch's aim): the kick at the
-        opponent goal if the robot may kick it, else a push (for :data:`QUICK_PUSH_S`) when facing the
+        opponent goal if the robot may kick it, else a push (for ``throw_in.quick_push_s``) when facing the
         touch's aim, else the orbit to it."""
         goal_error = _heading_error(pose, ball_xy, goal_aim_xy)
         kick = (abs(goal_error) <= skills.KICK_HEADING_TOLERANCE_RAD
                 and self._may_kick(pose, ball_xy, goal_x, goal_error, shot=shot))
-        if not kick and abs(heading_error) > QUICK_PUSH_RAD:
+        if not kick and abs(heading_error) > self.params.throw_in.quick_push_rad:
             return Motion.WALK, skills.orbit(ball_rel, heading_error)
         self.intention = Intention.KICK
         if self._first_touch_s < self._drop_in_at_s:
@@ -739,7 +673,7 @@ class TeamAgent:
     def _stand_up(self, obs: Observation) -> Motion:
         """The stand-up for the side it lies on (the accelerometer), once it lies still; lying on a flank
         the reading is unsure, so when a stand-up tried in this fall left it down, the other one."""
-        if math.hypot(*obs.gyro_radps) > SETTLED_GYRO_RADPS:  # still tumbling: the side it lies on is not known yet
+        if math.hypot(*obs.gyro_radps) > self.params.posture.settled_gyro_radps:  # still tumbling: the side it lies on is not known yet
             return Motion.STAND
         last = obs.last_motion
         if last is not None and last.is_stand_up and obs.last_motion_sequence > self._fall_sequence:
@@ -753,12 +687,12 @@ class TeamAgent:
                 for o in self.obstacles.obstacles() if o.kind is not ObstacleKind.UNKNOWN]
 
     def _just_kicked(self) -> bool:
-        return self.now_s - self._kicked_s < FOLLOW_KICK_S
+        return self.now_s - self._kicked_s < self.params.kick.follow_kick_s
 
     def _contesting(self) -> bool:
         """The striker near its ball goes for it, whoever stands there."""
         ball = self._own_ball()
-        return self.role is Role.STRIKER and ball is not None and ball.distance_m < CONTEST_BALL_M
+        return self.role is Role.STRIKER and ball is not None and ball.distance_m < self.params.kick.contest_ball_m
 
     def _may_kick(self, pose: Pose2D, ball_xy: tuple[float, float], goal_x: float, heading_error: float,
                   clearing: bool = False, shot: ShotWindow | None = None, goal_line: bool = False) -> bool:
@@ -771,18 +705,18 @@ class TeamAgent:
         front of their goal (a clearing there) is no danger to the own goal, 6 m away, whatever
         the eyes see."""
         if clearing:
-            aligned = abs(heading_error) <= KICK_ALIGN_RAD
-            return aligned and (goal_line or self.now_s - self._own_goal_ahead_s >= OWN_GOAL_MEMORY_S)
-        on_target = _on_target(pose.theta, ball_xy, goal_x, POST_CLEARANCE_M if goal_line else POST_MARGIN_M)
+            aligned = abs(heading_error) <= self.params.kick.align_rad
+            return aligned and (goal_line or self.now_s - self._own_goal_ahead_s >= self.params.kick.own_goal_memory_s)
+        on_target = _on_target(pose.theta, ball_xy, goal_x, POST_CLEARANCE_M if goal_line else self.params.kick.post_margin_m)
         if shot is not None:
             if not shot.allows(pose.theta):
                 return False
-        elif math.hypot(goal_x - ball_xy[0], ball_xy[1]) < SHOOTING_RANGE_M:
+        elif math.hypot(goal_x - ball_xy[0], ball_xy[1]) < self.params.kick.shooting_range_m:
             if not on_target:  # at the goal line: between the posts at least
                 return False
-        elif abs(heading_error) > KICK_ALIGN_RAD:
+        elif abs(heading_error) > self.params.kick.align_rad:
             return False
-        if self.now_s - self._own_goal_ahead_s < OWN_GOAL_MEMORY_S:
+        if self.now_s - self._own_goal_ahead_s < self.params.kick.own_goal_memory_s:
             return False
         roll_y = ball_xy[1] + math.sin(pose.theta) * skills.KICK_ROLL_M
         if (not on_target and abs(roll_y) > FIELD.half_width - skills.SIDELINE_MARGIN_M
@@ -794,21 +728,21 @@ class TeamAgent:
               ) -> tuple[float, float]:
         now = self.now_s
         sweeping, self._sweeping = self._sweeping, False  # set again below while the sweep goes on
-        if self.locator.sigma_m > UNCERTAIN_M and now >= self._next_glance_s:
-            self._glance_until_s = now + GLANCE_S
-            self._next_glance_s = now + GLANCE_EVERY_S
+        if self.locator.sigma_m > self.params.head.uncertain_m and now >= self._next_glance_s:
+            self._glance_until_s = now + self.params.head.glance_s
+            self._next_glance_s = now + self.params.head.glance_every_s
         if now < self._glance_until_s:
             return self._glance(pose)
-        if ball_rel is not None and ball_rel.age_s <= TRACK_BALL_S:
+        if ball_rel is not None and ball_rel.age_s <= self.params.head.track_ball_s:
             return self._look_at(ball_rel)
         if self._just_kicked():  # the ball rolled off ahead
             self._camera = CameraPosition.TOP
             return 0.0, skills.SCAN_PITCH_RAD
-        if ball_rel is not None and ball_rel.distance_m < LOOK_AT_NEAR_BALL_M:  # not seen lately, but near: look
+        if ball_rel is not None and ball_rel.distance_m < self.params.head.look_at_near_ball_m:  # not seen lately, but near: look
             yaw, pitch = self._look_at(ball_rel)  # there if a frame would show it (not behind a robot or the robot)
             if in_view(ball_rel, yaw, pitch, self._camera, self.obstacles.obstacles()):
                 return yaw, pitch
-        if ball_rel is None and ball_field is not None and now % SEARCH_CYCLE_S < LOOK_FOR_TEAM_BALL_S:
+        if ball_rel is None and ball_field is not None and now % self.params.head.search_cycle_s < self.params.head.look_for_team_ball_s:
             return self._look_at(_relative(pose, ball_field))
         self._sweeping = True
         if not sweeping:  # a new search: first a quick look near the feet
@@ -837,7 +771,7 @@ class TeamAgent:
     def _penalty_look(self) -> tuple[float, float]:
         """A penalty kicker's head while the kick is set: first at the goal straight ahead (top camera), where
         it sees the goalkeeper (:mod:`agents.behavior.shot_window`), then at the ball before its feet."""
-        if self.now_s - self._state_since_s < PENALTY_LOOK_S:
+        if self.now_s - self._state_since_s < self.params.head.penalty_look_s:
             self._camera = CameraPosition.TOP
             return 0.0, skills.SCAN_PITCH_RAD
         return self._look_at(BallEstimate(PENALTY_KICKER_BEHIND_BALL_M, 0.0, 0.0, 0.0, 0.0, 0.0))
@@ -919,16 +853,16 @@ def _heading_error(pose: Pose2D, ball_xy: tuple[float, float], aim_xy: tuple[flo
     return math.remainder(math.atan2(aim_xy[1] - ball_xy[1], aim_xy[0] - ball_xy[0]) - pose.theta, math.tau)
 
 
-def _into_field(ball_xy: tuple[float, float]) -> tuple[float, float]:
-    """A ball believed at ``ball_xy`` (field frame), moved :data:`IN_FIELD_MARGIN_M` inside the lines if beyond them."""
-    x_max, y_max = FIELD.half_length - IN_FIELD_MARGIN_M, FIELD.half_width - IN_FIELD_MARGIN_M
+def _into_field(ball_xy: tuple[float, float], margin_m: float) -> tuple[float, float]:
+    """A ball believed at ``ball_xy`` (field frame), moved ``margin_m`` inside the lines if beyond them."""
+    x_max, y_max = FIELD.half_length - margin_m, FIELD.half_width - margin_m
     return min(max(ball_xy[0], -x_max), x_max), min(max(ball_xy[1], -y_max), y_max)
 
 
-def _throw_in_wait_pose(spot_xy: tuple[float, float], attack: float) -> Pose2D:
-    """Where a striker waits for a ball going out (field frame): :data:`THROW_IN_WAIT_BACK_M` on its own
-    side of the spot the referee will put it on (on the throw-in line), facing the opponent goal."""
-    return Pose2D(spot_xy[0] - attack * THROW_IN_WAIT_BACK_M, spot_xy[1], 0.0 if attack > 0 else math.pi)
+def _throw_in_wait_pose(spot_xy: tuple[float, float], attack: float, back_m: float) -> Pose2D:
+    """Where a striker waits for a ball going out (field frame): ``back_m`` on its own side of the spot
+    the referee will put it on (on the throw-in line), facing the opponent goal."""
+    return Pose2D(spot_xy[0] - attack * back_m, spot_xy[1], 0.0 if attack > 0 else math.pi)
 
 
 def _relative(pose: Pose2D, ball: BallEstimate) -> BallEstimate:
