@@ -2,6 +2,8 @@
 
 Every command and scenario file chooses policies through :func:`policy_factory`, so a bad
 name is refused the same way everywhere, before anything runs, with the known names listed.
+A team agent (``team`` or a variant) plays another parameter set as ``team:path/to/params.toml``
+(:mod:`agents.team.params`; the file is read, and refused if bad, when the name is resolved).
 A policy class is called with keyword options only (none for a plain choice by name) and
 must provide ``reset(agent_id, seed)`` and ``act(observation)``
 (:class:`match.protocol.policy.Policy`).
@@ -19,6 +21,7 @@ from agents.behavior.scan_localize import ScanLocalizeAgent
 from agents.behavior.scripted import ScriptedPlayer
 from agents.behavior.stand import StandPolicy
 from agents.team.agent import TeamAgent
+from agents.team.params import ParameterError, TeamParams
 from match.protocol import Policy
 
 PolicyFactory = Callable[..., Policy]
@@ -36,6 +39,7 @@ BUILTIN_POLICIES: dict[str, tuple[PolicyFactory, str]] = {
     "team-blind": (functools.partial(TeamAgent, avoid_obstacles=False), "the team agent that does not avoid obstacles"),
 }
 DEFAULT_POLICY = "team"  # what a match plays unless told otherwise
+PARAMETER_SUFFIX = ".toml"  # NAME:FILE.toml: the built-in NAME with the parameters of FILE
 _IMPORT_PATH = re.compile(r"^[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*:[A-Za-z_][\w]*$")
 
 
@@ -45,7 +49,8 @@ class PolicyNameError(ValueError):
 
 def known_policies() -> str:
     """The built-in names and the import-path form, for messages."""
-    return ", ".join(BUILTIN_POLICIES) + ", or package.module:ClassName"
+    return (", ".join(BUILTIN_POLICIES) + ", or package.module:ClassName"
+            + f" (a team agent with other parameters: team:FILE{PARAMETER_SUFFIX})")
 
 
 def policy_factory(name: str) -> PolicyFactory:
@@ -54,6 +59,9 @@ def policy_factory(name: str) -> PolicyFactory:
         raise PolicyNameError(f"policy name {name!r}; expected a string: {known_policies()}")
     if name in BUILTIN_POLICIES:
         return BUILTIN_POLICIES[name][0]
+    base, _, path = name.partition(":")
+    if base in BUILTIN_POLICIES and path.endswith(PARAMETER_SUFFIX):
+        return _with_parameters(name, base, path)
     if not _IMPORT_PATH.match(name):
         raise PolicyNameError(f"unknown policy {name!r}; expected {known_policies()}")
     module_name, _, attribute = name.partition(":")
@@ -69,6 +77,19 @@ def policy_factory(name: str) -> PolicyFactory:
             raise PolicyNameError(f"policy {name!r}: {attribute} has no {method}() method; "
                                   "a policy needs reset(agent_id, seed) and act(observation)")
     return factory
+
+
+def _with_parameters(name: str, base: str, path: str) -> PolicyFactory:
+    """The built-in team agent ``base`` with the parameters of the TOML file at ``path``."""
+    factory = BUILTIN_POLICIES[base][0]
+    team = factory.func if isinstance(factory, functools.partial) else factory
+    if team is not TeamAgent:
+        raise PolicyNameError(f"policy {name!r}: {base} takes no parameter file (the team agents do)")
+    try:
+        params = TeamParams.load(path)
+    except ParameterError as error:
+        raise PolicyNameError(f"policy {name!r}: {error}") from error
+    return functools.partial(factory, params=params)
 
 
 def make_policy(name: str, **options: Any) -> Policy:

@@ -12,6 +12,7 @@ from agents.modelling.ball_model import BallEstimate
 from agents.team.agent import TeamAgent
 from agents.team.messages import Intention
 from match.protocol import Motion, Pose2D
+from tests.team_scene import strike
 from world.field import FIELD
 
 
@@ -41,9 +42,9 @@ def test_a_robot_near_a_ball_at_its_own_goal_line_stands(attack: float, player: 
     ball_xy = (attack * ball[0], attack * ball[1])
     agent = TeamAgent()
     agent.reset("away" + player, 0)
-    motion, walk, _ = agent._strike(pose, _relative(pose, ball_xy), None, attack, (0.0, 0.0))
+    motion, walk, _ = strike(agent, pose, _relative(pose, ball_xy), None, attack, (0.0, 0.0))
     assert motion is Motion.STAND and walk == (0.0, 0.0, 0.0)
-    assert agent.intention is not Intention.KICK
+    assert agent.behavior.intention is not Intention.KICK
 
 
 @pytest.mark.parametrize("attack", [1.0, -1.0])
@@ -82,6 +83,6 @@ def test_a_ball_off_the_line_is_played_as_before(attack: float) -> None:
     ball_xy = (attack * (-FIELD.half_length + 0.3), attack * 0.2)
     agent = TeamAgent()
     agent.reset("home_1", 0)
-    motion, walk, _ = agent._strike(pose, _relative(pose, ball_xy), None, attack, (0.0, 0.0))
+    motion, walk, _ = strike(agent, pose, _relative(pose, ball_xy), None, attack, (0.0, 0.0))
     assert motion is Motion.WALK and any(walk)
-    assert agent.intention is Intention.GO_TO_BALL
+    assert agent.behavior.intention is Intention.GO_TO_BALL

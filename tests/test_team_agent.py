@@ -13,6 +13,7 @@ from agents.policies import make_policy
 from agents.behavior.skills import LONE_SILENCE_S
 from agents.team.agent import TeamAgent
 from agents.team.messages import Role, TeamMessage
+from agents.team.params import TeamParams
 from match.free_play import FreePlay
 from match.game import MatchConfig
 from match.protocol import (
@@ -28,9 +29,17 @@ from match.protocol import (
     throw_in_spot,
 )
 from match.runner import run_match
+from tests.team_scene import expected_restart as _expected_restart
+from tests.team_scene import note_own_touch as _note_own_touch
+from tests.team_scene import output as _output
+from tests.team_scene import side_tap as _side_tap
+from tests.team_scene import strike as _strike
+from tests.team_scene import world as _world
 from tests.user_policies import RadioFuzzer
 from world.camera_model import CameraPosition
 from world.field import FIELD
+
+P = TeamParams.default()
 
 
 def _observation(seed: int, **changes) -> dict:
@@ -77,12 +86,12 @@ def test_a_believed_ball_that_frames_in_clear_view_do_not_show_is_forgotten(head
                        sonar=np.full(4, 2.5, np.float32), gyro=np.zeros(3, np.float32))
     agent.act(obs)
     for _ in range(25):  # a ball lying 0.9 m ahead, seen for a second
-        agent.ball.predict(0.04, Displacement(0.0, 0.0, 0.0))
-        agent.ball.measure(0.9, 0.0)
+        agent.world.ball.predict(0.04, Displacement(0.0, 0.0, 0.0))
+        agent.world.ball.measure(0.9, 0.0)
     for _ in range(12):  # six frames, none with the ball
         agent.act(obs)
-    assert agent.ball.known is not forgets
-    assert agent.ball_absence.forgotten == int(forgets)
+    assert agent.world.ball.known is not forgets
+    assert agent.world.perception.absence.forgotten == int(forgets)
 
 
 @pytest.mark.render
@@ -92,8 +101,8 @@ def test_bad_radio_from_a_teammate_is_ignored_and_counted() -> None:
     agent, fuzzer = TeamAgent(), RadioFuzzer()
     summary = run_match(config, {"home_1": agent, "home_2": fuzzer}, seed=1, progress=False, max_steps=60)
     assert summary.faults["total"] == 0
-    ignored = agent.decode_stats.ignored
-    assert agent.decode_stats.decoded == 0 and sum(ignored.values()) >= 10
+    ignored = agent.world.listener.decode_stats.ignored
+    assert agent.world.listener.decode_stats.decoded == 0 and sum(ignored.values()) >= 10
     assert {"unknown version", "wrong length"} <= set(ignored)
 
 
@@ -104,10 +113,10 @@ def test_never_kicks_toward_its_own_goal(defended: str, theta: float) -> None:
     attack = 1.0 if defended == "blue" else -1.0
     pose = Pose2D(-1.0 * attack, 0.0, theta)  # in its own half, facing its own goal
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
-    motion, _, _ = agent._strike(pose, ball, None, attack, (0.0, 0.0))
+    motion, _, _ = _strike(agent, pose, ball, None, attack, (0.0, 0.0))
     assert not motion.is_kick
     facing = Pose2D(pose.x, pose.y, math.remainder(theta + math.pi, math.tau))
-    motion, _, _ = agent._strike(facing, ball, None, attack, (0.0, 0.0))
+    motion, _, _ = _strike(agent, facing, ball, None, attack, (0.0, 0.0))
     assert motion.is_kick
 
 
@@ -116,10 +125,10 @@ def test_no_kick_out_over_the_side_line() -> None:
     agent.reset("home_2", 0)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
     near_line = Pose2D(0.0, 1.8, 0.03)  # the goal is 33 degrees to the right; this heading leaves the field
-    motion, _, _ = agent._strike(near_line, ball, None, 1.0, (0.0, 0.0))
+    motion, _, _ = _strike(agent, near_line, ball, None, 1.0, (0.0, 0.0))
     assert not motion.is_kick
     inward = Pose2D(0.0, 1.8, -0.55)  # toward the goal's centre
-    motion, _, _ = agent._strike(inward, ball, None, 1.0, (0.0, 0.0))
+    motion, _, _ = _strike(agent, inward, ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick
 
 
@@ -133,7 +142,7 @@ def test_in_shooting_range_it_kicks_only_between_the_posts(x: float, theta: floa
     agent = TeamAgent()
     agent.reset("home_2", 0)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
-    motion, _, _ = agent._strike(Pose2D(x, 0.0, theta), ball, None, 1.0, (0.0, 0.0))
+    motion, _, _ = _strike(agent, Pose2D(x, 0.0, theta), ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick is kicks
 
 
@@ -147,10 +156,10 @@ def test_it_shoots_past_a_goalkeeper_it_saw_not_at_it() -> None:
         agent = TeamAgent()
         agent.reset("home_2", 0)
         if keeper_seen:
-            agent.obstacles.see([RobotPercept(-theta, 1.85, TeamColor.RED, RobotKind.OPPONENT, (0, 0, 1, 1),
+            agent.world.obstacles.see([RobotPercept(-theta, 1.85, TeamColor.RED, RobotKind.OPPONENT, (0, 0, 1, 1),
                                               (0.0, 0.0), 1)])
         ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
-        return agent._strike(Pose2D(1.0, 0.0, theta), ball, None, 1.0, (0.0, 0.0))[0]
+        return _strike(agent, Pose2D(1.0, 0.0, theta), ball, None, 1.0, (0.0, 0.0))[0]
 
     assert strike(0.0, keeper_seen=False).is_kick
     assert not strike(0.0).is_kick  # straight at the goalkeeper
@@ -160,21 +169,21 @@ def test_it_shoots_past_a_goalkeeper_it_saw_not_at_it() -> None:
 
 
 def test_lining_up_a_shot_it_looks_ahead_with_the_top_camera_every_few_frames() -> None:
-    from agents.team.agent import CAMERA_EVERY_STEPS, SHOT_TOP_FRAME_EVERY
+    from agents.team.agent import CAMERA_EVERY_STEPS
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)
     cameras = []
-    for step in range(CAMERA_EVERY_STEPS * SHOT_TOP_FRAME_EVERY * 2):
-        agent.step = step
-        agent._camera = CameraPosition.BOTTOM
-        agent._strike(Pose2D(1.0, 0.0, 0.6), ball, None, 1.0, (0.0, 0.0))  # in range, not yet aligned
+    for step in range(CAMERA_EVERY_STEPS * P.head.shot_top_frame_every * 2):
+        agent.world.step = step
+        agent.behavior.head.camera = CameraPosition.BOTTOM
+        _strike(agent, Pose2D(1.0, 0.0, 0.6), ball, None, 1.0, (0.0, 0.0))  # in range, not yet aligned
+        assert agent.behavior.striker.lining_up
         if step % CAMERA_EVERY_STEPS == 0:
-            cameras.append(agent._frame_camera())
+            cameras.append(agent._frame_camera(_output(agent, agent.behavior.striker.lining_up)))
     assert cameras.count(CameraPosition.TOP) == 2 and cameras.count(CameraPosition.BOTTOM) == 4
-    agent.step += 1  # no longer lining up: the head's camera
-    assert agent._frame_camera() is CameraPosition.BOTTOM
+    assert agent._frame_camera(_output(agent, False)) is CameraPosition.BOTTOM  # no longer lining up: the head's
 
 
 def test_the_penalty_kicker_looks_at_the_goal_while_the_kick_is_set() -> None:
@@ -183,7 +192,7 @@ def test_the_penalty_kicker_looks_at_the_goal_while_the_kick_is_set() -> None:
     obs = _observation(3, image=np.zeros((120, 160, 3), np.uint8), gyro=np.zeros(3, np.float32))
     obs["game"].update(state=int(GameState.SET), secondary=1, kickoff=0, defended_goal=0, seconds_since_drop_in=1e9)
     actions = [agent.act(obs) for _ in range(4)]
-    assert agent.locator.pose == pytest.approx(Pose2D(FIELD.penalty_mark_x - 0.22, 0.0, 0.0))  # behind the ball
+    assert agent.world.locator.pose == pytest.approx(Pose2D(FIELD.penalty_mark_x - 0.22, 0.0, 0.0))  # behind the ball
     stand = make_action(Motion.STAND)["motion"]
     assert all(a["motion"] == stand and abs(float(a["head"][0])) < 0.05 for a in actions)  # the goal straight ahead
     assert [a["camera"] for a in actions if a["camera"] != int(CameraChoice.OFF)] == [int(CameraChoice.TOP)] * 2
@@ -211,7 +220,7 @@ def test_a_goalkeeper_that_hears_no_teammate_plays_the_field(teammate_talks: boo
     roles = []
     for step in range(int(LONE_SILENCE_S / 0.04) + 25):
         agent.act(_keeper_observation(step, teammate_talks))
-        roles.append(agent.role)
+        roles.append(agent.behavior.role)
     assert roles[int(LONE_SILENCE_S / 0.04) - 10] is Role.GOALKEEPER  # silent, but not for long yet
     assert roles[-1] is role_at_the_end
 
@@ -370,7 +379,7 @@ def test_the_striker_level_with_the_ball_walks_on_behind_it() -> None:
         agent = TeamAgent()
         agent.reset("home_3", 0)
         rel = BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.05, 0.0)
-        motion, walk, _ = agent._strike(pose, rel, None, -1.0, (0.0, 0.0))
+        motion, walk, _ = _strike(agent, pose, rel, None, -1.0, (0.0, 0.0))
         assert motion is Motion.WALK and any(walk), pose
     assert skills.behind_ball(skills.behind_ball(Pose2D(0.33, -1.21, 2.6), ball, goal), ball, goal) == (
         skills.behind_point(ball, goal))
@@ -429,16 +438,16 @@ def test_a_clearing_goes_along_its_aim_never_toward_its_own_goal_and_is_pushed_n
     agent.reset("home_1", 0)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
     facing_own_goal = Pose2D(-2.65, 0.2, math.pi * 0.9)
-    motion, walk, _ = agent._strike(facing_own_goal, ball, None, 1.0, (0.0, 0.0))
+    motion, walk, _ = _strike(agent, facing_own_goal, ball, None, 1.0, (0.0, 0.0))
     assert not motion.is_kick and walk[0] < PUSH_MPS  # it goes round the ball
     toward_aim = Pose2D(-2.85, 0.2, math.radians(40.0))  # out to the left, away from the goal mouth
-    motion, walk, _ = agent._strike(toward_aim, ball, None, 1.0, (0.0, 0.0))
+    motion, walk, _ = _strike(agent, toward_aim, ball, None, 1.0, (0.0, 0.0))
     assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)  # no kick there: a kick may go astray
     farther_out = Pose2D(-2.65, 0.2, math.radians(40.0))
-    motion, _, _ = agent._strike(farther_out, ball, None, 1.0, (0.0, 0.0))
+    motion, _, _ = _strike(agent, farther_out, ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick
     in_the_field = Pose2D(-1.0, 0.2, 0.0)
-    motion, _, _ = agent._strike(in_the_field, ball, None, 1.0, (0.0, 0.0))
+    motion, _, _ = _strike(agent, in_the_field, ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick
 
 
@@ -462,13 +471,13 @@ def test_a_ball_on_their_goal_line_is_pushed_in_past_the_post_or_back_out_in_fro
     pose = Pose2D(ball[0] - c * at_foot[0] + s * at_foot[1], ball[1] - s * at_foot[0] - c * at_foot[1], theta)
     agent = TeamAgent()
     agent.reset("away_1", 0)
-    motion, walk, _ = agent._strike(pose, BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.02, 0.0), None, attack,
+    motion, walk, _ = _strike(agent, pose, BallEstimate(*_to_robot(pose, ball), 0.0, 0.0, 0.02, 0.0), None, attack,
                                     (0.0, 0.0))
     assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)  # walks it in ...
     y_at_line = ball[1] + math.tan(theta) * (goal_x - ball[0])
     assert abs(y_at_line) < FIELD.goal_post_y - POST_CLEARANCE_M  # ... past the post
     far = Pose2D(attack * 1.0, 0.0, theta)
-    motion, walk, _ = agent._strike(far, BallEstimate(*_to_robot(far, ball), 0.0, 0.0, 0.02, 0.0), None, attack,
+    motion, walk, _ = _strike(agent, far, BallEstimate(*_to_robot(far, ball), 0.0, 0.0, 0.02, 0.0), None, attack,
                                     (0.0, 0.0))
     assert motion is Motion.WALK and any(walk)  # from afar it goes to the ball
 
@@ -480,8 +489,8 @@ def test_a_ball_on_their_goal_line_is_pushed_in_past_the_post_or_back_out_in_fro
     assert abs(spot.y) > FIELD.goal_post_y + FIELD.goal_post_diameter  # ... clear of the goal
     pose = Pose2D(beside[0] - math.cos(spot.theta) * 0.14 + math.sin(spot.theta) * 0.05,
                   beside[1] - math.sin(spot.theta) * 0.14 - math.cos(spot.theta) * 0.05, spot.theta)
-    agent._own_goal_ahead_s = agent.now_s  # its own goal, 6 m away, straight ahead: no danger to a push
-    motion, walk, _ = agent._strike(pose, BallEstimate(*_to_robot(pose, beside), 0.0, 0.0, 0.02, 0.0), None, attack,
+    agent.world.perception.own_goal_ahead_s = agent.now_s  # its own goal, 6 m away, straight ahead: no danger to a push
+    motion, walk, _ = _strike(agent, pose, BallEstimate(*_to_robot(pose, beside), 0.0, 0.0, 0.02, 0.0), None, attack,
                                     (0.0, 0.0))
     assert motion is Motion.WALK and walk[0] == pytest.approx(PUSH_MPS)
 
@@ -542,7 +551,7 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal_in_
     (pushing on drifted the ball out); facing the line, or its own goal in its own half, it turns
     round the ball first; in the opponent half it may push it back along the line; ten seconds
     later the same striker at the same ball plays as in open play."""
-    from agents.team.agent import DT_S, QUICK_PUSH_S, QUICK_TOUCH_S
+    from agents.team.agent import DT_S
 
     ball_xy = (0.5, 1.6)
     ball = BallEstimate(0.15, 0.04, 0.0, 0.0, 0.02, 0.0)  # right in front of a foot
@@ -551,29 +560,29 @@ def test_a_fresh_throw_in_is_touched_the_quick_way_never_toward_its_own_goal_in_
     def after_throw_in(seconds: float) -> TeamAgent:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent._drop_in_at_s = agent.now_s - seconds
+        agent.world.step = 1000
+        agent.world.game.drop_in_at_s = agent.now_s - seconds
         return agent
 
     def strike(agent: TeamAgent, pose: Pose2D) -> tuple[Motion, tuple[float, float, float]]:
-        motion, walk, _ = agent._strike(pose, ball, None, 1.0, (0.0, 0.0))
+        motion, walk, _ = _strike(agent, pose, ball, None, 1.0, (0.0, 0.0))
         return motion, walk
 
     agent = after_throw_in(1.0)
     motion, walk = strike(agent, along)
     assert motion.is_kick or (motion is Motion.WALK and walk[0] > 0.0 and walk[2] == 0.0)  # played forward at once
-    agent.step += round(QUICK_PUSH_S / DT_S) - 1
+    agent.world.step += round(P.throw_in.quick_push_s / DT_S) - 1
     assert strike(agent, along) == (motion, walk)  # still its first touch
-    agent.step += 1
+    agent.world.step += 1
     motion, walk = strike(agent, along)
     assert not motion.is_kick and walk[2] != 0.0  # then open play: it turns round the ball to face the goal
-    motion, walk = strike(after_throw_in(QUICK_TOUCH_S + 1.0), along)
+    motion, walk = strike(after_throw_in(P.throw_in.quick_touch_s + 1.0), along)
     assert not motion.is_kick and walk[2] != 0.0  # open play
     motion, walk = strike(after_throw_in(1.0), Pose2D(along.x, along.y, math.radians(100.0)))
     assert not motion.is_kick and walk[2] != 0.0  # facing the side line: round the ball, never through it
     own_half = Pose2D(-along.x, along.y, math.pi)  # facing its own goal, in its own half
     agent = after_throw_in(1.0)
-    motion, walk, _ = agent._strike(own_half, ball, None, 1.0, (0.0, 0.0))
+    motion, walk, _ = _strike(agent, own_half, ball, None, 1.0, (0.0, 0.0))
     assert not motion.is_kick and walk[2] != 0.0  # round the ball
     agent = after_throw_in(1.0)  # in the opponent half a push back along the line (10 degrees into the field)
     motion, walk = strike(agent, Pose2D(along.x, along.y, math.pi + math.radians(10.0)))
@@ -590,17 +599,17 @@ def test_a_striker_beside_a_throw_in_s_ball_steps_to_it_without_turning_to_it() 
     pose = Pose2D(0.48, 1.3, math.radians(-20.0))  # facing forward (attack +x), 20 degrees into the field
     agent = TeamAgent()
     agent.reset("home_2", 0)
-    agent.step = 1000
-    agent._drop_in_at_s = agent.now_s - 1.0
+    agent.world.step = 1000
+    agent.world.game.drop_in_at_s = agent.now_s - 1.0
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
     assert ball.bearing_rad > math.radians(60.0)
-    motion, (vx, vy, omega), _ = agent._strike(pose, ball, None, 1.0, (0.0, 0.0))
+    motion, (vx, vy, omega), _ = _strike(agent, pose, ball, None, 1.0, (0.0, 0.0))
     assert motion is Motion.WALK and vx < 0.0 and vy > 0.0 and omega == pytest.approx(0.0)
     at_foot = Pose2D(ball_xy[0] - 0.14 * math.cos(pose.theta) + 0.05 * math.sin(pose.theta),
                      ball_xy[1] - 0.14 * math.sin(pose.theta) - 0.05 * math.cos(pose.theta), pose.theta)
     ball = BallEstimate(*_to_robot(at_foot, ball_xy), 0.0, 0.0, 0.02, 0.0)
     assert skills.at_kick_spot(ball)
-    motion, walk, _ = agent._strike(at_foot, ball, None, 1.0, (0.0, 0.0))
+    motion, walk, _ = _strike(agent, at_foot, ball, None, 1.0, (0.0, 0.0))
     assert motion.is_kick or (motion is Motion.WALK and walk == pytest.approx(skills.push(ball)))
 
 
@@ -611,7 +620,6 @@ def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -
     throw-in drill); ten seconds later, in open play, it orbits the ball as before."""
     from agents.behavior import skills
     from agents.behavior.aim import restart_aim
-    from agents.team.agent import QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S
 
     ball_xy, attack = (-0.5, 1.6), 1.0
     pose = Pose2D(-0.2, 1.4, math.radians(150.0))
@@ -620,17 +628,17 @@ def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -
     def strike(seconds_since_drop_in: float) -> tuple[float, float, float]:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent._drop_in_at_s = agent.now_s - seconds_since_drop_in
-        motion, walk, _ = agent._strike(pose, ball, None, attack, (0.0, 0.0))
+        agent.world.step = 1000
+        agent.world.game.drop_in_at_s = agent.now_s - seconds_since_drop_in
+        motion, walk, _ = _strike(agent, pose, ball, None, attack, (0.0, 0.0))
         assert motion is Motion.WALK
         return walk
 
     aim = restart_aim(ball_xy, pose.theta, attack)
-    waypoint = skills.behind_ball(pose, ball_xy, aim.xy, QUICK_GO_BEHIND_BEYOND_M)
+    waypoint = skills.behind_ball(pose, ball_xy, aim.xy, P.throw_in.quick_go_behind_beyond_m)
     assert waypoint is not None and skills.behind_ball(pose, ball_xy, aim.xy) is None
     assert strike(1.0) == skills.walk_to(pose, waypoint)[1]
-    assert strike(QUICK_TOUCH_S + 1.0) != skills.walk_to(pose, waypoint)[1]
+    assert strike(P.throw_in.quick_touch_s + 1.0) != skills.walk_to(pose, waypoint)[1]
 
 
 def test_a_striker_on_the_opponent_side_of_a_throw_in_s_ball_plays_it_back_along_the_line() -> None:
@@ -656,7 +664,6 @@ def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_
     side-steps the ball to a foot for a kick, as in open play. Facing the side line instead, it never
     pushes the ball out: it steps to the ball's side, for a tap along the line."""
     from agents.behavior.skills import PUSH_MPS
-    from agents.team.agent import LATE_TOUCH_AFTER_S
 
     ball_xy, way = (0.5, 1.6), math.radians(-30.0)  # 30 degrees into the field from the side line at +y
     pose = Pose2D(ball_xy[0] - 0.25 * math.cos(way), ball_xy[1] - 0.25 * math.sin(way), way)
@@ -664,18 +671,18 @@ def test_a_striker_late_to_a_throw_in_walks_on_through_the_ball_along_the_touch_
     def strike(after_s: float, robot: Pose2D) -> tuple[Motion, tuple[float, float, float]]:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent._drop_in_at_s = agent.now_s - after_s
+        agent.world.step = 1000
+        agent.world.game.drop_in_at_s = agent.now_s - after_s
         ball = BallEstimate(*_to_robot(robot, ball_xy), 0.0, 0.0, 0.02, 0.0)
-        motion, walk, _ = agent._strike(robot, ball, None, 1.0, (0.0, 0.0))
+        motion, walk, _ = _strike(agent, robot, ball, None, 1.0, (0.0, 0.0))
         return motion, walk
 
-    motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, pose)
+    motion, walk = strike(P.throw_in.late_touch_after_s + 0.5, pose)
     assert motion is Motion.WALK and walk == pytest.approx((PUSH_MPS, 0.0, 0.0), abs=1e-6)
     motion, walk = strike(1.0, pose)
     assert motion is Motion.WALK and walk[0] < PUSH_MPS and walk[1] != 0.0
     toward_line = Pose2D(ball_xy[0], ball_xy[1] - 0.25, math.pi / 2)
-    motion, walk = strike(LATE_TOUCH_AFTER_S + 0.5, toward_line)
+    motion, walk = strike(P.throw_in.late_touch_after_s + 0.5, toward_line)
     assert motion is Motion.WALK and walk[0] < 0.1 and abs(walk[1]) > 0.05  # beside the ball (a tap), not through it
 
 
@@ -684,7 +691,8 @@ def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() 
     line for the referee at first, but once the ball was believed out for longer than the referee
     takes to put it back, it plays it as a ball just inside (both teams' strikers once waited 70 s)."""
     from agents.behavior import skills
-    from agents.team.agent import DT_S, OUT_WAIT_S, _throw_in_wait_pose
+    from agents.team.agent import DT_S
+    from agents.team.behavior.set_plays.ball_out import wait_pose
 
     pose = Pose2D(-0.32, -1.63, -0.16)
     believed, inside = (-0.04, -2.12), (-0.04, -2.0 + 0.05)
@@ -692,17 +700,17 @@ def test_a_ball_believed_just_out_for_longer_than_the_referee_waits_is_played() 
     def strike(ball_xy: tuple[float, float], out_for_s: float) -> tuple:
         agent = TeamAgent()
         agent.reset("away_2", 0)
-        agent.step = 1000
-        agent._ball_in_s = agent.now_s - out_for_s
-        restart = agent._expected_restart(BallEstimate(*ball_xy, 0.0, 0.0, 0.05, 0.0), GoalColor.YELLOW)
+        agent.world.step = 1000
+        agent.world.team_ball.ball_in_s = agent.now_s - out_for_s
+        restart = _expected_restart(agent, BallEstimate(*ball_xy, 0.0, 0.0, 0.05, 0.0), GoalColor.YELLOW)
         ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.05, 0.0)
-        return agent._strike(pose, ball, None, -1.0, (0.0, 0.0), restart)
+        return _strike(agent, pose, ball, None, -1.0, (0.0, 0.0), restart)
 
-    waiting = strike(believed, OUT_WAIT_S - DT_S)
+    waiting = strike(believed, P.ball_out.out_wait_s - DT_S)
     # nobody of its team kicked: the other team put it out, and the referee puts it 1 m toward their goal
     spot = throw_in_spot(believed[0], believed[1], False, GoalColor.BLUE)
-    assert waiting[:2] == skills.walk_to(pose, _throw_in_wait_pose(spot, -1.0))
-    playing = strike(believed, OUT_WAIT_S + DT_S)
+    assert waiting[:2] == skills.walk_to(pose, wait_pose(spot, -1.0, P.ball_out.throw_in_wait_back_m))
+    playing = strike(believed, P.ball_out.out_wait_s + DT_S)
     assert playing == strike(inside, 0.0) and playing != waiting
 
 
@@ -712,7 +720,8 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
     to kick it within OWN_TOUCH_MEMORY_S, else the other team's."""
     from agents.behavior import skills
     from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S
-    from agents.team.agent import _relative, _throw_in_wait_pose
+    from agents.team.behavior.geometry import relative as _relative
+    from agents.team.behavior.set_plays.ball_out import wait_pose
     from agents.team.messages import Intention
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)  # rests 2 m on, the path crosses the line at x = 0.5
@@ -721,21 +730,22 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
     def restart(setup) -> tuple[float, float] | None:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent._ball_in_s = agent.now_s  # believed in the field until now
+        agent.world.step = 1000
+        agent.world.team_ball.ball_in_s = agent.now_s  # believed in the field until now
         setup(agent)
-        agent._note_own_touch()
-        return agent._expected_restart(rolling, GoalColor.BLUE)  # home defends blue: attacks +x
+        _note_own_touch(agent)
+        return _expected_restart(agent, rolling, GoalColor.BLUE)  # home defends blue: attacks +x
 
     def kicked(agent: TeamAgent) -> None:
-        agent.intention = Intention.KICK
+        agent.behavior.intention = Intention.KICK
 
     def teammate_kicked(agent: TeamAgent) -> None:
-        agent.team.hear(TeamMessage(player=3, sequence=1, pose=(0.4, 1.4, 1.5), intention=Intention.KICK,
+        agent.world.listener.model.hear(TeamMessage(player=3, sequence=1, pose=(0.4, 1.4, 1.5),
+                                                    intention=Intention.KICK,
                                     role=Role.STRIKER), agent.now_s)
 
     def kicked_long_ago(agent: TeamAgent) -> None:
-        agent._own_touch_s = agent.now_s - OWN_TOUCH_MEMORY_S - 0.1
+        agent.world.restart.note_own_touch(agent.now_s - OWN_TOUCH_MEMORY_S - 0.1)
 
     line_y = FIELD.half_width - 0.4
     assert restart(kicked) == pytest.approx((-0.5, line_y))  # its own touch: 1 m toward its own goal
@@ -745,40 +755,40 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
     slow = BallEstimate(0.5, 1.5, 0.0, 0.2, 0.05, 0.0)  # rests inside: played, not waited for
     agent = TeamAgent()
     agent.reset("home_2", 0)
-    assert agent._expected_restart(slow, GoalColor.BLUE) is None
-    assert agent._expected_restart(rolling, GoalColor.BLUE) is not None
-    agent.step = 1000  # the ball believed out (or no ball) since the start: the referee would have put it back
-    assert agent._expected_restart(rolling, GoalColor.BLUE) is None
+    assert _expected_restart(agent, slow, GoalColor.BLUE) is None
+    assert _expected_restart(agent, rolling, GoalColor.BLUE) is not None
+    agent.world.step = 1000  # the ball believed out (or no ball) since the start: the referee would have put it back
+    assert _expected_restart(agent, rolling, GoalColor.BLUE) is None
 
     spot = restart(lambda agent: None)
-    motion, walk, _ = agent._strike(pose, _relative(pose, rolling), rolling, 1.0, (0.0, 0.0), spot)
-    assert (motion, walk) == skills.walk_to(pose, _throw_in_wait_pose(spot, 1.0))
-    assert _throw_in_wait_pose(spot, 1.0) == Pose2D(1.2, line_y, 0.0)  # behind it, facing the opponent goal
+    motion, walk, _ = _strike(agent, pose, _relative(pose, rolling), rolling, 1.0, (0.0, 0.0), spot)
+    assert (motion, walk) == skills.walk_to(pose, wait_pose(spot, 1.0, P.ball_out.throw_in_wait_back_m))
+    behind = wait_pose(spot, 1.0, P.ball_out.throw_in_wait_back_m)
+    assert behind == Pose2D(1.2, line_y, 0.0)  # behind it, facing the opponent goal
 
 
 def test_the_striker_of_a_ball_going_out_is_the_robot_nearest_the_spot_it_comes_back_on() -> None:
     """Roles go by the time to the spot: a robot near the spot takes the striker's role from a teammate
     near where the ball crosses the line, which would have kept it by the time to the ball."""
-    from types import SimpleNamespace
-
     from agents.behavior.roles import time_to_ball
+    from agents.team.behavior.roles.assignment import assign
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)
     near_crossing = Pose2D(0.5, 1.3, 1.5)
-    up = SimpleNamespace(fallen=False)
 
     def role(ball_xy: tuple[float, float]) -> Role:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent.team.hear(TeamMessage(player=3, sequence=1, pose=(near_crossing.x, near_crossing.y, near_crossing.theta),
+        agent.world.step = 1000
+        crossing = (near_crossing.x, near_crossing.y, near_crossing.theta)
+        agent.world.listener.model.hear(TeamMessage(player=3, sequence=1, pose=crossing,
                                     role=Role.STRIKER, time_to_ball_s=time_to_ball(near_crossing, ball_xy)),
                         agent.now_s)
-        return agent._assign_role(Pose2D(spot[0] - 0.3, spot[1], 0.0), ball_xy, up)
+        return assign(_world(agent, Pose2D(spot[0] - 0.3, spot[1], 0.0), None), ball_xy, agent.behavior.role)[0]
 
     foreseeing = TeamAgent()
     foreseeing.reset("home_2", 0)
-    spot = foreseeing._expected_restart(rolling, GoalColor.BLUE)  # nobody of its team kicked: 1 m toward the other goal
+    spot = _expected_restart(foreseeing, rolling, GoalColor.BLUE)  # nobody of its team kicked: 1 m toward theirs
     assert spot == pytest.approx((1.5, FIELD.half_width - 0.4))
     assert role(spot) is Role.STRIKER
     assert role((rolling.x, rolling.y)) is not Role.STRIKER
@@ -792,7 +802,7 @@ def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does
 
     agent = TeamAgent()
     agent.reset("home_1", 0)
-    agent.role, agent._time_to_ball_s = Role.STRIKER, 0.5
+    agent.behavior.role, agent.behavior.time_to_ball_s = Role.STRIKER, 0.5
     packets = {}
     for motion in (Motion.STAND_UP_FROM_BACK, Motion.WALK):
         obs = _observation(3, motion=MOTIONS.index(motion), image=np.zeros((120, 160, 3), np.uint8))
@@ -855,7 +865,6 @@ def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_
     walk round it: it walks to the spot where it faces the line with the ball beside a foot, and side-steps
     into the ball, tapping it along the line, toward the opponent goal in its own half."""
     from agents.behavior import skills
-    from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 
     ball_xy = (-1.0 * attack, 1.6)  # in the robot's own half
     tap_to = attack  # along the line toward the opponent goal
@@ -863,20 +872,21 @@ def test_a_striker_coming_at_a_throw_in_s_ball_from_the_field_taps_it_along_the_
     def strike(pose: Pose2D, ball_rel: tuple[float, float]) -> tuple[TeamAgent, tuple[float, float, float]]:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent._drop_in_at_s = agent.now_s - 2.0
-        motion, walk, _ = agent._strike(pose, BallEstimate(*ball_rel, 0.0, 0.0, 0.02, 0.0), None, attack, (0.0, 0.0))
+        agent.world.step = 1000
+        agent.world.game.drop_in_at_s = agent.now_s - 2.0
+        motion, walk, _ = _strike(agent, pose, BallEstimate(*ball_rel, 0.0, 0.0, 0.02, 0.0), None, attack, (0.0, 0.0))
         assert motion is Motion.WALK
         return agent, walk
 
     far = Pose2D(ball_xy[0] - 0.2 * attack, 0.8, math.radians(90.0))
     _, walk = strike(far, _to_robot(far, ball_xy))
-    spot = Pose2D(ball_xy[0] - tap_to * SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.radians(90.0))
+    spot = Pose2D(ball_xy[0] - tap_to * P.side_tap.side_m, ball_xy[1] - P.side_tap.forward_m, math.radians(90.0))
     assert walk == skills.walk_to(far, spot)[1]  # to the tap's spot, not round the ball
 
-    facing_the_line = Pose2D(ball_xy[0] - tap_to * SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.radians(90.0))
+    facing_the_line = Pose2D(ball_xy[0] - tap_to * P.side_tap.side_m, ball_xy[1] - P.side_tap.forward_m,
+                             math.radians(90.0))
     beside = _to_robot(facing_the_line, ball_xy)  # the ball ahead and to the side the tap goes
-    assert beside == pytest.approx((SIDE_TAP_FORWARD_M, -tap_to * SIDE_TAP_SIDE_M))
+    assert beside == pytest.approx((P.side_tap.forward_m, -tap_to * P.side_tap.side_m))
     agent, walk = strike(facing_the_line, beside)
     assert walk[0] == pytest.approx(0.0, abs=0.02) and walk[1] == pytest.approx(-tap_to * skills.WALK_HIGH[1])
     c, s = math.cos(facing_the_line.theta), math.sin(facing_the_line.theta)
@@ -895,10 +905,10 @@ def test_no_side_tap_along_the_line_or_from_past_a_ball_near_the_own_goal_line(
     once walked round the ball to it for 14 s)."""
     agent = TeamAgent()
     agent.reset("home_2", 0)
-    agent.step = 1000
-    agent._drop_in_at_s = agent.now_s - 2.0
+    agent.world.step = 1000
+    agent.world.game.drop_in_at_s = agent.now_s - 2.0
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
-    assert agent._side_tap(pose, ball, ball_xy, 1.0) is None
+    assert _side_tap(agent, pose, ball, ball_xy, 1.0) is None
 
 
 def test_past_a_ball_far_from_its_own_goal_line_the_striker_taps_it_back_along_the_line() -> None:
@@ -906,18 +916,17 @@ def test_past_a_ball_far_from_its_own_goal_line_the_striker_taps_it_back_along_t
     ball 1.9 m from its own goal line, the striker taps it back along the line from where it stands (a
     robot 1 m from such a ball once walked round it and touched it after 10 s)."""
     from agents.behavior import skills
-    from agents.team.agent import BACK_TAP_CLEAR_M, SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
-    agent.step = 1000
-    agent._drop_in_at_s = agent.now_s - 2.0
+    agent.world.step = 1000
+    agent.world.game.drop_in_at_s = agent.now_s - 2.0
     pose, ball_xy, attack = Pose2D(-0.8, 0.8, math.radians(135.0)), (-1.1, 1.6), 1.0
-    assert FIELD.half_length + attack * ball_xy[0] >= BACK_TAP_CLEAR_M
+    assert FIELD.half_length + attack * ball_xy[0] >= P.side_tap.back_tap_clear_m
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
-    walk = agent._side_tap(pose, ball, ball_xy, attack)
-    assert agent._side_tap_along == -attack  # back toward its own goal, away from the robot
-    spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] - SIDE_TAP_FORWARD_M, math.pi / 2)
+    walk = _side_tap(agent, pose, ball, ball_xy, attack)
+    assert agent.behavior.striker.side_tap.along == -attack  # back toward its own goal, away from the robot
+    spot = Pose2D(ball_xy[0] + P.side_tap.side_m, ball_xy[1] - P.side_tap.forward_m, math.pi / 2)
     assert walk == skills.walk_to(pose, spot)[1]  # to the tap's place on its own side of the ball
 
 
@@ -926,20 +935,19 @@ def test_a_side_tap_keeps_the_way_it_was_chosen_when_the_position_estimate_jumps
     carries the believed ball over the centre line does not turn it round (a striker once side-stepped
     0.4 m past the ball, to the far side of its tap, while the other team came and touched first)."""
     from agents.behavior import skills
-    from agents.team.agent import SIDE_TAP_FORWARD_M, SIDE_TAP_SIDE_M
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
-    agent.step = 1000
-    agent._drop_in_at_s = agent.now_s - 2.0
+    agent.world.step = 1000
+    agent.world.game.drop_in_at_s = agent.now_s - 2.0
     pose = Pose2D(0.35, -1.2, math.radians(-100.0))
     ball_xy = (-0.1, -1.6)  # in the robot's own half, 0.6 m away
     ball = BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0)
     jumped = Pose2D(pose.x + 0.2, pose.y, pose.theta)  # the same sighting puts the ball in the other half
-    chosen = agent._side_tap(jumped, ball, (ball_xy[0] + 0.2, ball_xy[1]), 1.0)
+    chosen = _side_tap(agent, jumped, ball, (ball_xy[0] + 0.2, ball_xy[1]), 1.0)
     assert chosen is not None  # in the other half the tap goes away from the robot: toward the own goal
-    walk = agent._side_tap(pose, ball, ball_xy, 1.0)
-    spot = Pose2D(ball_xy[0] + SIDE_TAP_SIDE_M, ball_xy[1] + SIDE_TAP_FORWARD_M, -math.pi / 2)
+    walk = _side_tap(agent, pose, ball, ball_xy, 1.0)
+    spot = Pose2D(ball_xy[0] + P.side_tap.side_m, ball_xy[1] + P.side_tap.forward_m, -math.pi / 2)
     assert walk == skills.walk_to(pose, spot)[1]  # still the spot on the robot's side of the ball
 
 
@@ -949,31 +957,33 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
     moved from there is played as in open play."""
     from agents.behavior import skills
     from agents.behavior.aim import restart_aim
-    from agents.team.agent import DT_S, QUICK_GO_BEHIND_BEYOND_M, QUICK_TOUCH_S, QUICK_UNTOUCHED_S
+    from agents.team.agent import DT_S
 
     ball_xy, attack = (-0.5, 1.6), 1.0
     pose = Pose2D(-0.2, 1.4, math.radians(150.0))  # as above: the quick touch walks round to behind the ball
-    waypoint = skills.behind_ball(pose, ball_xy, restart_aim(ball_xy, pose.theta, attack).xy, QUICK_GO_BEHIND_BEYOND_M)
+    waypoint = skills.behind_ball(pose, ball_xy, restart_aim(ball_xy, pose.theta, attack).xy,
+                                  P.throw_in.quick_go_behind_beyond_m)
     assert waypoint is not None
     quick_walk = skills.walk_to(pose, waypoint)[1]
 
     def strike(seconds_since_drop_in: float, at_xy: tuple[float, float], saw_it: bool) -> tuple[float, float, float]:
         agent = TeamAgent()
         agent.reset("home_2", 0)
-        agent.step = 1000
-        agent._drop_in_at_s = agent.now_s - 1.0
+        agent.world.step = 1000
+        agent.world.game.drop_in_at_s = agent.now_s - 1.0
         if saw_it:  # a second after the put-back, at the ball's spot
-            assert agent._strike(pose, BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0), None, attack,
+            assert _strike(agent, pose, BallEstimate(*_to_robot(pose, ball_xy), 0.0, 0.0, 0.02, 0.0), None, attack,
                                  (0.0, 0.0))[1] == quick_walk
-        agent.step += round((seconds_since_drop_in - 1.0) / DT_S)
+        agent.world.step += round((seconds_since_drop_in - 1.0) / DT_S)
         ball = BallEstimate(*_to_robot(pose, at_xy), 0.0, 0.0, 0.02, 0.0)
-        return agent._strike(pose, ball, None, attack, (0.0, 0.0))[1]
+        return _strike(agent, pose, ball, None, attack, (0.0, 0.0))[1]
 
-    assert strike(QUICK_TOUCH_S + 1.0, ball_xy, saw_it=True) == quick_walk
-    assert strike(QUICK_TOUCH_S + 1.0, ball_xy, saw_it=False) != quick_walk  # open play
+    assert strike(P.throw_in.quick_touch_s + 1.0, ball_xy, saw_it=True) == quick_walk
+    assert strike(P.throw_in.quick_touch_s + 1.0, ball_xy, saw_it=False) != quick_walk  # open play
     moved = (ball_xy[0] + 0.4, ball_xy[1])
-    assert strike(QUICK_TOUCH_S + 1.0, moved, saw_it=True) == strike(QUICK_TOUCH_S + 1.0, moved, saw_it=False)
-    assert strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=True) == strike(QUICK_UNTOUCHED_S + 1.0, ball_xy, saw_it=False)
+    late, later = P.throw_in.quick_touch_s + 1.0, P.throw_in.quick_untouched_s + 1.0
+    assert strike(late, moved, saw_it=True) == strike(late, moved, saw_it=False)
+    assert strike(later, ball_xy, saw_it=True) == strike(later, ball_xy, saw_it=False)
 
 
 @pytest.mark.parametrize("ball_xy, age_s, looks", [((0.5, 0.2), 1.0, True), ((0.9, 0.08), 1.2, True),
@@ -991,13 +1001,14 @@ def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_fa
     unsure as its age makes it: a look that asked for a sure belief (sigma 0.25 m, 0.75 s unseen) once swept past a
     ball 0.9 m ahead for 4.7 s."""
     from agents.modelling.ball_model import BallModel
-    from agents.team.agent import BALL_LOST_S, DT_S
+    from agents.team.agent import DT_S
+    from agents.team.behavior.head import Glance
 
     agent = TeamAgent()
     agent.reset("home_2", 0)
-    agent.step = 1000
+    agent.world.step = 1000
     pose = Pose2D(0.0, 0.0, 0.0)
-    agent._next_glance_s = math.inf  # its pose is uncertain here: no glance at a goal in between
+    agent.behavior.head.glance.enter(Glance.NONE, math.inf)  # its pose is uncertain here: no glance at a goal
     model = BallModel()
     for _ in range(10):  # seen for 0.4 s, then unseen for age_s
         model.measure(math.hypot(*ball_xy), math.atan2(ball_xy[1], ball_xy[0]))
@@ -1006,5 +1017,5 @@ def test_a_near_ball_unseen_for_a_second_is_looked_for_where_it_is_believed_a_fa
         model.predict(DT_S, Displacement())
     ball = model.relative()
     assert ball.age_s == pytest.approx(age_s, abs=DT_S) and ball.x == pytest.approx(ball_xy[0], abs=0.01)
-    head = agent._head(pose, ball if age_s <= BALL_LOST_S else None, None)
-    assert (head == pytest.approx(agent._look_at(ball))) is looks
+    head = agent.behavior.head.control(_world(agent, pose, ball if age_s <= P.ball.lost_s else None), False)
+    assert ((head.yaw_rad, head.pitch_rad) == pytest.approx(agent.behavior.head.look_at(ball))) is looks

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from agents.team.messages import (
     MESSAGE_BYTES,
+    ROLE_CODES,
     VERSION,
     DecodeStats,
     Intention,
@@ -29,7 +30,7 @@ angle = st.floats(-math.pi + 1e-3, math.pi - 1e-3)
     velocity=st.tuples(st.floats(-5, 5), st.floats(-5, 5)),
     sigma=st.floats(0.0, 2.5),
     age=st.floats(0.0, 60.0),
-    role=st.sampled_from(Role),
+    role=st.sampled_from(sorted(ROLE_CODES)),
     intention=st.sampled_from(Intention),
     to_ball=st.floats(0.0, 60.0),
     fallen=st.booleans(),
@@ -88,3 +89,23 @@ def test_random_bytes_never_raise(data: bytes) -> None:
     result = decode(data, stats)
     assert result is None or isinstance(result, TeamMessage)
     assert stats.decoded + sum(stats.ignored.values()) == 1
+
+
+def test_a_role_is_a_name_and_the_radio_carries_its_code() -> None:
+    from agents.team.messages import register_role_code
+
+    data = TeamMessage(2, 1, None, role=Role.DEFENDER).encode()
+    assert data[-4] == ROLE_CODES["defender"] == 4 and decode(data).role == "defender"
+    register_role_code("marker", 9)
+    try:
+        assert decode(TeamMessage(2, 1, None, role="marker").encode()).role == "marker"
+        for name, code in (("marker", 10), ("sweeper", 4), ("sweeper", 256)):
+            try:
+                register_role_code(name, code)
+            except ValueError:
+                continue
+            raise AssertionError(f"{name} took code {code}")
+    finally:
+        from agents.team import messages
+
+        del messages.ROLE_CODES["marker"], messages._ROLE_NAMES[9]

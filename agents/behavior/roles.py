@@ -19,7 +19,7 @@ is at x = -3 (``attack`` = +1 when it defends the blue goal, -1 otherwise) and m
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from agents.team.messages import Role
@@ -57,45 +57,72 @@ def time_to_ball(pose: Pose2D, ball_xy: tuple[float, float], fallen: bool = Fals
     return math.hypot(dx, dy) / WALK_SPEED_MPS + turn / TURN_SPEED_RADPS + (FALLEN_PENALTY_S if fallen else 0.0)
 
 
-def assign_role(own: Candidate, others: Sequence[Candidate], current: Role, lone: bool = False) -> Role:
-    """This robot's role, given the field players heard from (``others``, keeper excluded); ``lone``: this
-    robot has heard no teammate for a while (a player 0 then plays the field)."""
+FIELD_ROLES = (Role.DEFENDER, Role.SUPPORTER)  # the field players beside the striker, by player number
+
+
+def assign_role(own: Candidate, others: Sequence[Candidate], current: str, lone: bool = False,
+                field_roles: Sequence[str] = FIELD_ROLES) -> str:
+    """This robot's role (a name), given the field players heard from (``others``, keeper excluded);
+    ``lone``: this robot has heard no teammate for a while (a player 0 then plays the field). Beside the
+    striker, the field players take ``field_roles`` by player number, the last one as often as needed."""
     if own.player == 0 and not lone:
         return Role.GOALKEEPER
     field_players = [own, *[c for c in others if c.player != 0 and c.player != own.player]]
 
     def effective(c: Candidate) -> tuple[float, int]:
-        striker = current is Role.STRIKER if c.player == own.player else c.striker
+        striker = current == Role.STRIKER if c.player == own.player else c.striker
         return (c.time_to_ball_s - (STRIKER_HYSTERESIS_S if striker else 0.0), c.player)
 
     striker = min(field_players, key=effective)
     if striker.player == own.player:
         return Role.STRIKER
     rest = sorted(c.player for c in field_players if c.player != striker.player)
-    return Role.DEFENDER if rest.index(own.player) == 0 else Role.SUPPORTER
+    return field_roles[min(rest.index(own.player), len(field_roles) - 1)]
 
 
-def role_position(role: Role, ball_xy: tuple[float, float] | None, attack: float) -> Pose2D:
+def goalkeeper_spot(bx: float, by: float) -> tuple[float, float]:
+    """The goalkeeper's spot on its line, following the ball's y (own-goal frame, ball at ``bx, by``)."""
+    return GOALKEEPER_X_M, _clip(by * GOALKEEPER_FOLLOW, GOALKEEPER_MAX_Y_M)
+
+
+def defender_spot(bx: float, by: float) -> tuple[float, float]:
+    """Between the ball and the own goal, in the own half (own-goal frame)."""
+    x = min(-FIELD.half_length + DEFEND_SHARE * (bx + FIELD.half_length), DEFENDER_MAX_X_M)
+    return _in_field(x, by * DEFEND_SHARE)
+
+
+def supporter_spot(bx: float, by: float) -> tuple[float, float]:
+    """Behind the ball, off to the side (own-goal frame); a striker without a ball stands there too."""
+    x = bx - SUPPORT_BEHIND_M
+    y = by - math.copysign(SUPPORT_SIDE_M, by) if abs(by) > SUPPORT_SIDE_M else by + SUPPORT_SIDE_M
+    return _in_field(x, y)
+
+
+SPOTS = {Role.GOALKEEPER: goalkeeper_spot, Role.DEFENDER: defender_spot}  # any other role: supporter_spot
+
+
+def role_position(role: str, ball_xy: tuple[float, float] | None, attack: float) -> Pose2D:
     """Where a robot of ``role`` should stand (field frame), facing the ball or the field."""
+    return position_from_spot(SPOTS.get(role, supporter_spot), ball_xy, attack)
+
+
+def position_from_spot(spot: Callable[[float, float], tuple[float, float]], ball_xy: tuple[float, float] | None,
+                       attack: float) -> Pose2D:
+    """The pose (field frame) at ``spot(bx, by)`` (own-goal frame: a function of the ball there, or of the
+    centre spot without a ball), facing the ball or the field."""
     if ball_xy is None:
         bx, by = 0.0, 0.0
     else:
         bx, by = ball_xy[0] * attack, ball_xy[1] * attack  # own-goal frame
-    if role is Role.GOALKEEPER:
-        x, y = GOALKEEPER_X_M, _clip(by * GOALKEEPER_FOLLOW, GOALKEEPER_MAX_Y_M)
-    elif role is Role.DEFENDER:
-        x = min(-FIELD.half_length + DEFEND_SHARE * (bx + FIELD.half_length), DEFENDER_MAX_X_M)
-        y = by * DEFEND_SHARE
-    else:  # supporter (and a striker without a ball: the same spot)
-        x = bx - SUPPORT_BEHIND_M
-        y = by - math.copysign(SUPPORT_SIDE_M, by) if abs(by) > SUPPORT_SIDE_M else by + SUPPORT_SIDE_M
-    if role is not Role.GOALKEEPER:
-        x = _clip(x, FIELD.half_length - FIELD_MARGIN_M)
-        y = _clip(y, FIELD.half_width - FIELD_MARGIN_M)
+    x, y = spot(bx, by)
     face = math.atan2(by - y, bx - x)
     if attack > 0:
         return Pose2D(x, y, face)
     return Pose2D(-x, -y, math.remainder(face + math.pi, math.tau))
+
+
+def _in_field(x: float, y: float) -> tuple[float, float]:
+    return _clip(x, FIELD.half_length - FIELD_MARGIN_M), _clip(y, FIELD.half_width - FIELD_MARGIN_M)
 
 
 def _clip(value: float, limit: float) -> float:

@@ -31,14 +31,28 @@ _UINT8 = 255
 _UINT16 = 65535
 
 
-class Role(enum.IntEnum):
-    """What a robot plays now (section 8.1 of the thesis lists roles as future work)."""
+class Role:
+    """The built-in roles' names (section 8.1 of the thesis lists roles as future work). A role is its
+    name (a str) everywhere but on the radio, which carries its code (:data:`ROLE_CODES`)."""
 
-    NONE = 0
-    GOALKEEPER = 1
-    STRIKER = 2
-    SUPPORTER = 3
-    DEFENDER = 4
+    NONE = "none"
+    GOALKEEPER = "goalkeeper"
+    STRIKER = "striker"
+    SUPPORTER = "supporter"
+    DEFENDER = "defender"
+
+
+# The radio's role codes (format version 1). A new role takes a free code here (register_role_code).
+ROLE_CODES: dict[str, int] = {Role.NONE: 0, Role.GOALKEEPER: 1, Role.STRIKER: 2, Role.SUPPORTER: 3, Role.DEFENDER: 4}
+_ROLE_NAMES: dict[int, str] = {code: name for name, code in ROLE_CODES.items()}
+
+
+def register_role_code(name: str, code: int) -> None:
+    """Give the role ``name`` the radio code ``code`` (0-255); a code or name taken otherwise is refused."""
+    if not 0 <= code <= _UINT8 or _ROLE_NAMES.get(code, name) != name or ROLE_CODES.get(name, code) != code:
+        raise ValueError(f"role {name!r}: code {code} is taken or out of range 0-{_UINT8} ({ROLE_CODES})")
+    ROLE_CODES[name] = code
+    _ROLE_NAMES[code] = name
 
 
 class Intention(enum.IntEnum):
@@ -79,7 +93,7 @@ class TeamMessage:
     ball_sigma_m: float = 0.0
     ball_age_s: float = 0.0
     fallen: bool = False
-    role: Role = Role.NONE
+    role: str = Role.NONE
     intention: Intention = Intention.NONE
     time_to_ball_s: float = math.inf
 
@@ -115,7 +129,7 @@ class TeamMessage:
             bvy,
             _unsigned(self.ball_sigma_m * 100.0, _UINT8),
             _unsigned(self.ball_age_s * 1000.0, _UINT16),
-            int(self.role),
+            ROLE_CODES[self.role],
             int(self.intention),
             _unsigned(self.time_to_ball_s * 1000.0, _UINT16),
         )
@@ -141,7 +155,7 @@ def decode(data: bytes, stats: DecodeStats | None = None) -> TeamMessage | None:
          intention, to_ball_ms) = fields
         if player > 3:
             reason = "player out of range"
-        elif role not in Role._value2member_map_ or intention not in Intention._value2member_map_:
+        elif role not in _ROLE_NAMES or intention not in Intention._value2member_map_:
             reason = "unknown role or intention"
         elif flags & ~int(Flag.POSE | Flag.BALL | Flag.FALLEN):
             reason = "unknown flags"
@@ -163,7 +177,7 @@ def decode(data: bytes, stats: DecodeStats | None = None) -> TeamMessage | None:
         ball_sigma_m=ball_cm / 100.0,
         ball_age_s=age_ms / 1000.0,
         fallen=bool(flags & Flag.FALLEN),
-        role=Role(role),
+        role=_ROLE_NAMES[role],
         intention=Intention(intention),
         time_to_ball_s=math.inf if to_ball_ms == _UINT16 else to_ball_ms / 1000.0,
     )

@@ -1,0 +1,11 @@
+"""The defender: between the ball and its own goal, in its own half."""
+
+from __future__ import annotations
+
+from agents.behavior.roles import defender_spot
+from agents.team.behavior.roles.positioning import Positioning
+from agents.team.behavior.roles.registry import RoleSpec, register
+from agents.team.messages import Role
+
+DEFENDER = register(RoleSpec(Role.DEFENDER, lambda kit: Positioning(kit.params, defender_spot),
+                             "between the ball and its own goal"))

@@ -1,0 +1,1 @@
+"""Set plays: the game situations that ask for more than open play (throw-ins, kick-offs, a ball going out)."""
