@@ -96,10 +96,10 @@ def test_a_role_is_a_name_and_the_radio_carries_its_code() -> None:
 
     data = TeamMessage(2, 1, None, role=Role.DEFENDER).encode()
     assert data[-4] == ROLE_CODES["defender"] == 4 and decode(data).role == "defender"
-    register_role_code("marker", 9)
+    register_role_code("libero", 9)
     try:
-        assert decode(TeamMessage(2, 1, None, role="marker").encode()).role == "marker"
-        for name, code in (("marker", 10), ("sweeper", 4), ("sweeper", 256)):
+        assert decode(TeamMessage(2, 1, None, role="libero").encode()).role == "libero"
+        for name, code in (("libero", 10), ("stopper", 4), ("stopper", 256)):
             try:
                 register_role_code(name, code)
             except ValueError:
@@ -108,4 +108,4 @@ def test_a_role_is_a_name_and_the_radio_carries_its_code() -> None:
     finally:
         from agents.team import messages
 
-        del messages.ROLE_CODES["marker"], messages._ROLE_NAMES[9]
+        del messages.ROLE_CODES["libero"], messages._ROLE_NAMES[9]

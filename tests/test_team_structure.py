@@ -16,7 +16,7 @@ from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
 from agents.team.agent import TeamAgent
 from agents.team.behavior.framework import Option, deck
-from agents.team.behavior.roles.assignment import assign
+from agents.team.behavior.roles.assignment import assign, lone
 from agents.team.behavior.roles.registry import REGISTRY, RoleSpec, register
 from agents.team.behavior.root import Behavior
 from agents.team.messages import Intention, Role, TeamMessage
@@ -199,3 +199,13 @@ def test_the_behaviour_decides_from_a_snapshot_alone() -> None:
 def test_a_team_agent_plays_another_parameter_set() -> None:
     slow = TeamAgent(params=P.replace(kick={"follow_kick_mps": 0.05}))
     assert slow.behavior.params.kick.follow_kick_mps == 0.05 and slow.world.params is slow.params
+
+
+def test_the_team_and_scripted_policies_share_the_lone_goalkeeper_rule() -> None:
+    from agents.behavior import scripted, skills
+
+    assert skills.plays_alone(0, skills.LONE_SILENCE_S) and not skills.plays_alone(0, skills.LONE_SILENCE_S - 0.04)
+    assert not skills.plays_alone(1, 60.0)  # field players play the field anyway
+    assert scripted.LONE_SILENCE_STEPS * skills.CONTROL_STEP_S == skills.LONE_SILENCE_S
+    world = snapshot(Pose2D(-2.8, 0.0, 0.0), player=0, silent_for_s=skills.LONE_SILENCE_S)
+    assert lone(world) and not lone(dataclasses.replace(world, player=1))

@@ -33,6 +33,7 @@ from agents.behavior.skills import (
     SEARCH_TURN_RADPS,
     SEARCH_TURN_STEPS,
     STILL,
+    plays_alone,
     TOP_CAMERA_BEYOND_M,
     HeadSweep,
     chase,
@@ -187,10 +188,10 @@ class ScriptedPlayer:
                 return True
         return False
 
-    def _alone(self) -> bool:
-        """No teammate heard for :data:`LONE_SILENCE_STEPS` (since the reset, when none ever was)."""
+    def _silent_for_s(self) -> float:
+        """Seconds since a teammate was last heard (since the reset, when none ever was)."""
         last_heard = max((heard for _, heard in self._m.teammates.values()), default=0)
-        return self._m.step - last_heard >= LONE_SILENCE_STEPS
+        return (self._m.step - last_heard) * CONTROL_STEP_S
 
     def _heading_error(self, obs: Observation) -> float:
         return normalize_angle(kickoff_heading(obs.game.defended_goal) - self._m.heading_rad)
@@ -212,7 +213,7 @@ class ScriptedPlayer:
         head = self._track(ball) if ball is not None else self._scan(SEARCH_SCAN_RATE_RADPS)
         if obs.motion is not None and obs.motion.is_kick:
             return Command(obs.motion, head=head)
-        if obs.player == KEEPER_PLAYER and not self._alone():
+        if obs.player == KEEPER_PLAYER and not plays_alone(obs.player, self._silent_for_s()):
             return self._goalkeeper(obs, ball, head)
         return self._field_player(obs, ball, head)
 

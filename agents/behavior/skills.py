@@ -99,6 +99,14 @@ KEEPER_MAX_TURN_RADPS = 0.5
 STILL = (0.0, 0.0, 0.0)
 
 
+def plays_alone(player: int, silent_for_s: float) -> bool:
+    """The lone-goalkeeper rule of the built-in policies: player 0 that has heard no teammate for
+    :data:`LONE_SILENCE_S` (``silent_for_s``: since the last one it heard, or since its reset) plays
+    alone, a team of one or with every teammate silent: it plays the field, since a team of one that
+    only keeps its goal can never score."""
+    return player == KEEPER_PLAYER and silent_for_s >= LONE_SILENCE_S
+
+
 def stand_up_for(accelerometer_x_mps2: float) -> Motion:
     """Lying on the back reads about +9.81 m/s^2 on torso x, on the front about -9.81."""
     return Motion.STAND_UP_FROM_BACK if accelerometer_x_mps2 > 0.0 else Motion.STAND_UP_FROM_FRONT

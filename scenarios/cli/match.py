@@ -32,7 +32,7 @@ DESCRIPTION = (
     "and the figures traces.png and localization.png (--no-replay: not those); --video ROBOT also writes "
     "video_ROBOT.mp4, that robot's camera with its vision overlay and a field map. A policy is a built-in name "
     "(team, its variants, scripted, scan_localize, stand: see the README) or a class of yours as "
-    "package.module:ClassName."
+    "package.module:ClassName; a team agent with other parameters as team:FILE.toml (agents/team/params.toml)."
 )
 
 

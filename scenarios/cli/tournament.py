@@ -35,7 +35,8 @@ DESCRIPTION = (
     "outputs and its replay page replay.html, --no-replay: not that), results.csv, summary.json, table.md, "
     "standings.png and, for three or more policies, ratings.png into --out; --plots-for N also writes traces.png and "
     "localization.png of match N. A policy is a built-in name (team and its variants, scripted, scan_localize, "
-    "stand) or package.module:ClassName. Finished matches are kept; --resume continues an interrupted tournament."
+    "stand) or package.module:ClassName; team:FILE.toml: a team agent with the parameters of FILE (self-play of two "
+    "parameter sets: team team:FILE.toml). Finished matches are kept; --resume continues an interrupted tournament."
 )
 
 log = logging.getLogger(__name__)

@@ -10,11 +10,9 @@ feeds the same models when a frame is seen, between steps.
 
 from __future__ import annotations
 
-import math
-
 from agents.behavior import skills
 from agents.modelling.ball_model import BallModel as BallFilter
-from agents.modelling.obstacle_model import ObstacleKind, ObstacleModel
+from agents.modelling.obstacle_model import ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.observation import Observation
 from agents.team.messages import Intention
@@ -28,7 +26,7 @@ from agents.team.modelling.team import TeamListener
 from agents.team.modelling.team_ball import TeamBallProvider
 from agents.team.params import TeamParams
 from agents.vision.pipeline import VisionPipeline
-from match.protocol import GameState, Pose2D
+from match.protocol import GameState
 
 DT_S = skills.CONTROL_STEP_S
 
@@ -67,7 +65,7 @@ class WorldModeller:
         game = self.game.update(obs, now, self.perception.own_goal_ahead_s)
         pose = self.locator.pose
         robot = RobotPose(pose, self.locator.sigma_m, self.locator.sigma_rad)
-        obstacles = _obstacles(self.obstacles, pose)
+        obstacles = Obstacles(self.obstacles.obstacles(), pose)
         ball = team_ball = play = None
         if not posture.busy:
             ball = own_ball(self.ball, self.locator, self.params)
@@ -76,13 +74,3 @@ class WorldModeller:
                 play = self.restart.update(team_ball.field, self.team_ball.ball_in_s, game, team, last_intention, now)
         return WorldModel(self.player, self.step, now, robot, posture, odometry, game, team, obstacles, ball,
                           team_ball, play)
-
-
-def _obstacles(model: ObstacleModel, pose: Pose2D) -> Obstacles:
-    """The obstacles, and the robots it has seen (not the sonars' echoes: their bearing is vague) in the
-    field frame (m)."""
-    torso = model.obstacles()
-    c, s = math.cos(pose.theta), math.sin(pose.theta)
-    robots = tuple((pose.x + c * o.x_m - s * o.y_m, pose.y + s * o.x_m + c * o.y_m)
-                   for o in torso if o.kind is not ObstacleKind.UNKNOWN)
-    return Obstacles(torso, robots)

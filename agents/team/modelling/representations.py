@@ -7,10 +7,12 @@ x ahead, y left). Times are the agent's own clock (s since its reset), ``*_s`` f
 
 from __future__ import annotations
 
+import functools
+import math
 from dataclasses import dataclass
 
 from agents.modelling.ball_model import BallEstimate
-from agents.modelling.obstacle_model import Obstacle
+from agents.modelling.obstacle_model import Obstacle, ObstacleKind
 from agents.modelling.team_model import Teammate
 from match.protocol import DropIn, GameState, GoalColor, KickOff, Motion, Pose2D
 
@@ -83,11 +85,18 @@ class TeamBall:
 
 @dataclass(frozen=True)
 class Obstacles:
-    """The robots and echoes believed around (torso frame, nearest first); ``robots_field``: those it saw
-    (not the sonars' echoes) in the field frame."""
+    """The robots and echoes believed around (torso frame, nearest first), seen from ``pose_field``;
+    ``robots_field``: those it saw (not the sonars' echoes) in the field frame (m), computed when read."""
 
     torso: tuple[Obstacle, ...]
-    robots_field: tuple[tuple[float, float], ...]
+    pose_field: Pose2D
+
+    @functools.cached_property
+    def robots_field(self) -> tuple[tuple[float, float], ...]:
+        pose = self.pose_field
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        return tuple((pose.x + c * o.x_m - s * o.y_m, pose.y + s * o.x_m + c * o.y_m)
+                     for o in self.torso if o.kind is not ObstacleKind.UNKNOWN)
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 from agents.modelling.ball_model import BallEstimate
-from agents.modelling.obstacle_model import Obstacle, ObstacleKind
+from agents.modelling.obstacle_model import Obstacle
 from agents.modelling.team_model import Teammate
 from agents.team.modelling.representations import (
     BallModel,
@@ -44,9 +44,6 @@ def snapshot(pose: Pose2D, *, ball_torso: BallEstimate | None = None, team_ball:
         c, s = math.cos(pose.theta), math.sin(pose.theta)
         field = BallEstimate(pose.x + c * ball_torso.x - s * ball_torso.y, pose.y + s * ball_torso.x + c * ball_torso.y,
                              0.0, 0.0, ball_torso.sigma_m, ball_torso.age_s)
-    c, s = math.cos(pose.theta), math.sin(pose.theta)
-    robots = tuple((pose.x + c * o.x_m - s * o.y_m, pose.y + s * o.x_m + c * o.y_m)
-                   for o in obstacles if o.kind is not ObstacleKind.UNKNOWN)
     defended = GoalColor.BLUE if attack > 0 else GoalColor.YELLOW
     game = GameSituation(state, state_since_s, kickoff, shootout, defended, DropIn.NONE, drop_in_at_s, None,
                          own_goal_ahead_s)
@@ -54,5 +51,5 @@ def snapshot(pose: Pose2D, *, ball_torso: BallEstimate | None = None, team_ball:
         player=player, step=step, now_s=now, robot=RobotPose(pose, sigma_m, sigma_rad),
         posture=Posture(None, False, False, False, None, (0.0, 0.0, 0.0), 0.0, ()),
         odometry=Odometry(True, 0.0, 0.0), game=game, team=TeamState(tuple(teammates), silent_for_s),
-        obstacles=Obstacles(tuple(obstacles), robots), ball=BallModel(ball_torso, ball_torso, field),
+        obstacles=Obstacles(tuple(obstacles), pose), ball=BallModel(ball_torso, ball_torso, field),
         team_ball=TeamBall(team_ball), play=PlayStatus(restart, kickoff_played_s))

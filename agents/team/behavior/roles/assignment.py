@@ -19,8 +19,9 @@ from agents.team.modelling.representations import WorldModel
 
 
 def lone(world: WorldModel) -> bool:
-    """Whether this goalkeeper plays alone (no teammate heard lately)."""
-    return world.player == 0 and world.team.silent_for_s >= skills.LONE_SILENCE_S
+    """Whether this goalkeeper plays alone (:func:`agents.behavior.skills.plays_alone`, shared with the
+    scripted policy)."""
+    return skills.plays_alone(world.player, world.team.silent_for_s)
 
 
 def assign(world: WorldModel, play_xy: tuple[float, float] | None, current: str,
