@@ -16,7 +16,7 @@ from agents.modelling.team_model import MESSAGE_TIMEOUT_S, TeamModel
 from agents.team.modelling.odometry import arc as _arc
 from agents.team.messages import Role, TeamMessage
 from agents.vision.percepts import LandmarkPercept
-from match.protocol import Displacement, GoalColor, Pose2D
+from match.protocol import Displacement, Pose2D
 from world.camera_model import CameraPosition
 from world.field import FIELD, LandmarkId, LandmarkKind
 

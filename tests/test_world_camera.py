@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pybullet as pb
 import pytest
 
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition, world_to_camera

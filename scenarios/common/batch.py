@@ -35,13 +35,19 @@ import logging
 import multiprocessing
 import os
 import queue
+import sys
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import Any
 
 from scenarios.common.io import write_text, write_text_atomic
-from scenarios.common.termination import end_interrupted, parent_alive, prepare_worker, stop_processes
+from scenarios.common.termination import (
+    end_interrupted,
+    parent_alive,
+    prepare_worker,
+    stop_processes,
+)
 
 log = logging.getLogger(__name__)
 
@@ -250,12 +256,16 @@ _worker_parent = None
 
 def _init_worker(ticks, parent_pid: int, threads: int = 1) -> None:
     """A pool worker's start: ``threads`` threads for numba's parallel code (the renderer's cameras), so that
-    the workers together use the cores once."""
+    the workers together use the cores once. Set before numba is loaded, so that numba starts no more
+    and, with one, none (its threading layer is chosen where its parallel code first runs)."""
     global _worker_queue, _worker_parent
     prepare_worker(parent_pid)
-    import numba
+    if "numba" in sys.modules:  # loaded already: its thread count is fixed, use fewer of them
+        import numba
 
-    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    else:
+        os.environ["NUMBA_NUM_THREADS"] = str(threads)
     _worker_queue, _worker_parent = ticks, parent_pid
 
 
