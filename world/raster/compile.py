@@ -1,8 +1,7 @@
 """Compile the renderer's machine code into numba's cache once: ``python -m world.raster.compile``.
 
-``make install`` runs it, so that no match, test or benchmark pays for the compilation
-(a few tens of seconds, once per install or change of these sources; later processes load
-the cached code in well under a second).
+``make install`` runs it, so that no match, test or benchmark pays for the compilation (once
+per install or change of these sources; later processes load the cached code).
 """
 
 from __future__ import annotations

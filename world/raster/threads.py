@@ -1,8 +1,8 @@
 """Whether the cameras of a step are drawn on numba's threads, and on which threading layer.
 
-Only numba's TBB layer is used: it starts a parallel loop in microseconds and a process that
-used it may still fork (GNU OpenMP's layer kills such a child, which breaks vector envs that
-fork their workers; the ``workqueue`` layer costs a tenth of a millisecond or more per loop).
+Only numba's TBB layer is used: it starts a parallel loop cheaply and a process that used it
+may still fork (GNU OpenMP's layer kills such a child, which breaks vector envs that fork
+their workers; the ``workqueue`` layer's start costs a large share of a frame).
 TBB comes from the ``tbb`` wheel, whose library lies in the environment's ``lib`` folder,
 outside the loader's path: it is loaded here by its path before numba looks for it. Without
 it, or with one thread (``NUMBA_NUM_THREADS=1``, as the batch engine's workers are started
