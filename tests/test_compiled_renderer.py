@@ -157,6 +157,24 @@ def test_frames_are_the_same_on_threads_and_on_one(worlds) -> None:
     assert singles.tobytes() == one.tobytes()
 
 
+def test_a_large_lone_frame_is_the_same_in_bands_of_rows(worlds) -> None:
+    compiled, _ = worlds
+    _scatter(compiled, np.random.default_rng(3))
+    renderer = compiled.compiled_renderer
+    teams = {compiled.body_id(robot): compiled.robot_truth(robot).team for robot in compiled.robot_ids}
+    camera = rendering.look_at((1.0, -4.5, 2.5), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    was = renderer.parallel
+    drawn = []
+    try:
+        for parallel in (False, True):
+            renderer.parallel = parallel
+            drawn.append(renderer.frames([camera], 640, 480, 0.8, teams))
+    finally:
+        renderer.parallel = was
+    (one, one_labels), (bands, band_labels) = drawn
+    assert one.tobytes() == bands.tobytes() and one_labels.tobytes() == band_labels.tobytes()
+
+
 def test_labels_are_pybullet_segmentation_labels(worlds) -> None:
     """Where a body shows, its label is the one pybullet's segmentation mask gives; the hall is -1."""
     compiled, reference = worlds

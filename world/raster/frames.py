@@ -7,8 +7,10 @@ a depth, colour and label buffer; a body pixel shows where its depth, converted 
 converts TinyRenderer's buffer, is nearer than the hall's. Rows are flipped to top-to-bottom.
 
 Shapes are culled by their bounding sphere against the view frustum first (a culled shape
-could not have covered a pixel). Cameras are independent: :func:`draw_frames_parallel` draws
-them on numba's threads, :func:`draw_frames` on one.
+could not have covered a pixel). Cameras are independent, and so are bands of rows of one
+camera (each row of the hall depends only on the row, and a triangle drawn into a band covers
+there what it covers in the whole frame): :func:`draw_frames_parallel` shares the cameras, or a
+lone camera's bands, among numba's threads, :func:`draw_frames` draws on one.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from world.raster.hall import draw_hall
+from world.raster.hall import draw_hall_rows
 from world.raster.triangles import (
     draw_triangle,
     invert_transpose,
@@ -28,6 +30,7 @@ from world.raster.triangles import (
 
 F32 = np.float32
 CLEAR = np.uint32(0xFFFFFFFF)  # TinyRenderer's clear colour, white
+LONE_CAMERA_BANDS = 2  # bands of rows of a lone camera's frame drawn apart on numba's threads
 
 
 @njit(cache=True, error_model="numpy")
@@ -62,15 +65,17 @@ def _outside_frustum(model_view, centre, radius, tan_x, tan_y, near, far):
 
 
 @njit(cache=True, error_model="numpy")
-def draw_bodies(view, projection, width, height, models, inverse_models, vertices, normals, triangles,
+def draw_bodies(view, projection, width, height, rows, models, inverse_models, vertices, normals, triangles,
                 shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
                 light, ambient, diffuse, specular, zbuffer, colour, label):
-    """Every shape's triangles into the buffers (h*w, rows from the bottom), as TinyRenderer draws them."""
+    """Every shape's triangles into the buffers (h*w, rows from the bottom), as TinyRenderer draws them;
+    only the buffer rows ``rows`` = ``(lo, hi)`` are cleared and drawn."""
     near = projection[2, 3] / (projection[2, 2] - F32(1.0))
     far = projection[2, 3] / (projection[2, 2] + F32(1.0))
-    zbuffer[:] = -far
-    colour[:] = CLEAR
-    label[:] = -1
+    lo, hi = rows[0] * width, rows[1] * width
+    zbuffer[lo:hi] = -far
+    colour[lo:hi] = CLEAR
+    label[lo:hi] = -1
     viewport = _viewport(width, height)
     eye = invert_transpose(view)  # its row 3 is the camera position (TinyRenderer's inverted view matrix)
     px, py, pz = float(eye[3, 0]), float(eye[3, 1]), float(eye[3, 2])
@@ -104,19 +109,20 @@ def draw_bodies(view, projection, width, height, models, inverse_models, vertice
                 v = triangles[t, j]
                 transform_point(pmv, vertices[v, 0], vertices[v, 1], vertices[v, 2], F32(1.0), gl, j)
                 transform_point3(inverse, normals[v, 0], normals[v, 1], normals[v, 2], vertex_normals, j)
-            draw_triangle(gl, viewport, zbuffer, colour, label, shape_label[s], width, height, vertex_normals,
+            draw_triangle(gl, viewport, zbuffer, colour, label, shape_label[s], width, height, rows, vertex_normals,
                           light, shape_rgb[s], ambient, diffuse, specular, near, far, scratch)
 
 
 @njit(cache=True, error_model="numpy")
-def _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_min_depth, out, out_label):
-    """The bodies where nearer than the hall, else the hall; rows flipped to top-to-bottom."""
+def _merge(width, height, rows, projection, zbuffer, colour, label, hall_rgba, hall_min_depth, out, out_label):
+    """The bodies where nearer than the hall, else the hall, in the buffer rows ``rows`` = ``(lo, hi)``;
+    rows flipped to top-to-bottom."""
     near = projection[2, 3] / (projection[2, 2] - F32(1.0))
     far = projection[2, 3] / (projection[2, 2] + F32(1.0))
     clear = -far  # the depth of a pixel no body covers, converted once
     clear_depth = F32((far * (near - clear)) / (2.0 * float(far) * float(near) + float(far * -clear)
                                                 - float(near * -clear)))
-    for y in range(height):
+    for y in range(rows[0], rows[1]):
         row = height - 1 - y
         for x in range(width):
             source = x + y * width
@@ -139,21 +145,24 @@ def _merge(width, height, projection, zbuffer, colour, label, hall_rgba, hall_mi
 
 
 @njit(cache=True, error_model="numpy")
-def _draw_one(c, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views, projection,
-              width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i, banner_f, palette,
-              models, inverse_models, vertices, normals, triangles, shape_instance, shape_first, shape_count,
-              shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse, specular):
+def _draw_band(c, band, bands, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
+               projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i, banner_f,
+               palette, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first, shape_count,
+               shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse, specular):
+    """Band ``band`` of ``bands`` equal bands of rows of camera ``c``'s frame."""
+    top, bottom = band * height // bands, (band + 1) * height // bands  # image rows, from the top
     if not halls_given:
-        draw_hall(rotations[c], positions[c], width, height, focal, hall_f64, hall_i64, floor_colours, face_colours,
-                  banner_i, banner_f, palette, halls_rgba[c], halls_min_depth[c])
+        draw_hall_rows(rotations[c], positions[c], width, height, top, bottom, focal, hall_f64, hall_i64,
+                       floor_colours, face_colours, banner_i, banner_f, palette, halls_rgba[c], halls_min_depth[c])
+    rows = (height - bottom, height - top)  # the same rows in the buffers, which count from the bottom
     pixels = width * height
     zbuffer = np.empty(pixels, np.float32)
     colour = np.empty(pixels, np.uint32)
     label = np.empty(pixels, np.int32)
-    draw_bodies(views[c], projection, width, height, models, inverse_models, vertices, normals, triangles,
+    draw_bodies(views[c], projection, width, height, rows, models, inverse_models, vertices, normals, triangles,
                 shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
                 light, ambient, diffuse, specular, zbuffer, colour, label)
-    _merge(width, height, projection, zbuffer, colour, label, halls_rgba[c], halls_min_depth[c], out[c],
+    _merge(width, height, rows, projection, zbuffer, colour, label, halls_rgba[c], halls_min_depth[c], out[c],
            out_labels[c].reshape(-1))
 
 
@@ -176,11 +185,11 @@ def draw_frames(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotat
     drawn here unless ``halls_given``."""
     inverse_models = inverse_transposes(models)
     for c in range(out.shape[0]):
-        _draw_one(c, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
-                  projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
-                  banner_f, palette, models, inverse_models, vertices, normals, triangles, shape_instance,
-                  shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient,
-                  diffuse, specular)
+        _draw_band(c, 0, 1, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions,
+                   views, projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
+                   banner_f, palette, models, inverse_models, vertices, normals, triangles, shape_instance,
+                   shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient,
+                   diffuse, specular)
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
@@ -189,11 +198,13 @@ def draw_frames_parallel(out, out_labels, halls_rgba, halls_min_depth, halls_giv
                          banner_f, palette, models, vertices, normals, triangles, shape_instance, shape_first,
                          shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse,
                          specular):
-    """As :func:`draw_frames`, the cameras shared among numba's threads."""
+    """As :func:`draw_frames`, the cameras shared among numba's threads; a lone camera's frame is shared
+    as :data:`LONE_CAMERA_BANDS` bands of rows."""
     inverse_models = inverse_transposes(models)
-    for c in prange(out.shape[0]):
-        _draw_one(c, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
-                  projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
-                  banner_f, palette, models, inverse_models, vertices, normals, triangles, shape_instance,
-                  shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient,
-                  diffuse, specular)
+    bands = LONE_CAMERA_BANDS if out.shape[0] == 1 else 1
+    for job in prange(out.shape[0] * bands):
+        _draw_band(job // bands, job % bands, bands, out, out_labels, halls_rgba, halls_min_depth, halls_given,
+                   rotations, positions, views, projection, width, height, focal, hall_f64, hall_i64, floor_colours,
+                   face_colours, banner_i, banner_f, palette, models, inverse_models, vertices, normals, triangles,
+                   shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light,
+                   ambient, diffuse, specular)

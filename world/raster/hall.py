@@ -21,15 +21,16 @@ NEG_INF = -math.inf
 
 
 @njit(cache=True, error_model="numpy")
-def _ground(rotation, position, width, height, focal, near, far, corner_x, corner_y, carpet_half_x,
+def _ground(rotation, position, width, height, row_lo, row_hi, focal, near, far, corner_x, corner_y, carpet_half_x,
             carpet_half_y, texel_m, pad_columns, pad_rows, floor_rows, floor_columns, depth, texel):
-    """Depth (m, along the optical axis) at which each pixel centre's ray meets the floor (+inf where it
-    does not, within near-far), and the flat index of the floor texel there (0 where there is none).
+    """Depth (m, along the optical axis) at which each pixel centre's ray of rows ``row_lo:row_hi`` meets
+    the floor (+inf where it does not, within near-far), and the flat index of the floor texel there (0
+    where there is none).
 
     Each row is computed in two passes: the arithmetic of all its pixels (which the compiler can
     vectorise), then the tests; rows whose rays all point up are skipped."""
-    depth[:] = np.inf
-    texel[:] = 0
+    depth[row_lo * width:row_hi * width] = np.inf
+    texel[row_lo * width:row_hi * width] = 0
     if position[2] <= 0.0:
         return
     column_slope = np.empty(width)
@@ -38,7 +39,7 @@ def _ground(rotation, position, width, height, focal, near, far, corner_x, corne
     d = np.empty(width)
     x = np.empty(width)
     y = np.empty(width)
-    for r in range(height):
+    for r in range(row_lo, row_hi):
         ry = (r + 0.5 - height / 2) / focal
         down_row, x_row, y_row = ry * rotation[2, 1], ry * rotation[0, 1], ry * rotation[1, 1]
         left = (column_slope[0] * rotation[2, 0] + down_row) + rotation[2, 2]
@@ -66,6 +67,15 @@ def draw_hall(rotation, position, width, height, focal, tables_f64, tables_i64, 
     (h*w uint32) and the smallest TinyRenderer depth-buffer value behind which it shows (h*w float32,
     +inf where it is not in view). ``tables_f64``, ``tables_i64``, ``banner_i`` and ``banner_f`` are
     :class:`world.backdrop.HallTables` packed by :func:`pack_tables`."""
+    draw_hall_rows(rotation, position, width, height, 0, height, focal, tables_f64, tables_i64, floor_colours,
+                   face_colours, banner_i, banner_f, palette, out_rgba, out_min_depth)
+
+
+@njit(cache=True, error_model="numpy")
+def draw_hall_rows(rotation, position, width, height, row_lo, row_hi, focal, tables_f64, tables_i64, floor_colours,
+                   face_colours, banner_i, banner_f, palette, out_rgba, out_min_depth):
+    """:func:`draw_hall` for the image rows ``row_lo:row_hi`` (from the top) only: each row's pixels
+    depend on nothing but the row, so bands drawn apart make the same image."""
     near, far, corner_x, corner_y = tables_f64[0], tables_f64[1], tables_f64[2], tables_f64[3]
     carpet_half_x, carpet_half_y, texel_m = tables_f64[4], tables_f64[5], tables_f64[6]
     k0, k1, inverse_far = F32(tables_f64[7]), F32(tables_f64[8]), F32(1.0 / far)
@@ -76,8 +86,8 @@ def draw_hall(rotation, position, width, height, focal, tables_f64, tables_i64, 
     pixels = width * height
     ground_depth = np.empty(pixels, np.float64)
     texel = np.empty(pixels, np.int32)
-    _ground(rotation, position, width, height, focal, near, far, corner_x, corner_y, carpet_half_x, carpet_half_y,
-            texel_m, pad_columns, pad_rows, floor_rows, floor_columns, ground_depth, texel)
+    _ground(rotation, position, width, height, row_lo, row_hi, focal, near, far, corner_x, corner_y, carpet_half_x,
+            carpet_half_y, texel_m, pad_columns, pad_rows, floor_rows, floor_columns, ground_depth, texel)
 
     # Sample points of TinyRenderer: column slope (i - w/2) / f, row slope (r + 1 - h/2) / f.
     column_rays = np.empty((3, width))
@@ -118,9 +128,9 @@ def draw_hall(rotation, position, width, height, focal, tables_f64, tables_i64, 
 
     colour = np.full(pixels, nothing, np.int32)
     hall_inverse = np.full(pixels, F32(NEG_INF), np.float32)
-    top, bottom = height, 0
+    top, bottom = row_hi, row_lo
     if any_front:  # rows in which the ground is nearer than any wall or roof could be need no more
-        for r in range(height):
+        for r in range(row_lo, row_hi):
             bound = F32(-np.inf)
             for f in range(faces):
                 if front[f]:
@@ -135,7 +145,7 @@ def draw_hall(rotation, position, width, height, focal, tables_f64, tables_i64, 
                row_terms, face_colours, nothing, colour, hall_inverse)
         _banners(top, bottom, width, front, banner_i, banner_f, column_rays, row_rays, position, column_terms,
                  row_terms, colour, hall_inverse)
-    for k in range(pixels):
+    for k in range(row_lo * width, row_hi * width):
         g = ground_depth[k]
         on_ground = g < np.inf and g * hall_inverse[k] <= 1.0
         if on_ground:

@@ -26,6 +26,9 @@ from world.teams import TeamColor
 
 F32 = np.float32
 HALL_CACHE_SIZE = 4  # fixed camera poses whose hall is kept
+# A lone camera's frame is drawn in bands of rows on numba's threads from this size on (the
+# broadcast view); a smaller one is drawn sooner on one thread than the sleeping threads wake.
+LONE_FRAME_BANDS_MIN_PIXELS = 320 * 240
 
 
 @functools.lru_cache(maxsize=16)
@@ -45,8 +48,8 @@ def view_matrix(rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
 class CompiledRenderer:
     """Draws the cameras of one pybullet world (``client``) whose bodies ``geometry`` lists.
 
-    ``parallel``: whether the cameras of one call are drawn on numba's threads
-    (:func:`world.raster.threads.parallel_cameras` by default; the images are the same).
+    ``parallel``: whether the cameras of one call, or a large lone frame's bands of rows, are drawn on
+    numba's threads (:func:`world.raster.threads.parallel_cameras` by default; the images are the same).
     """
 
     def __init__(self, client: int, geometry: RasterGeometry, hall: HallBackdrop, render: RenderConfig):
@@ -94,7 +97,8 @@ class CompiledRenderer:
             halls_rgba = np.empty((n, width_px * height_px), np.uint32)
             halls_depth = np.empty((n, width_px * height_px), np.float32)
         g = self._geometry
-        draw = kernels.draw_frames_parallel if n > 1 and self.parallel else kernels.draw_frames
+        parallel = self.parallel and (n > 1 or width_px * height_px >= LONE_FRAME_BANDS_MIN_PIXELS)
+        draw = kernels.draw_frames_parallel if parallel else kernels.draw_frames
         draw(out, labels, halls_rgba, halls_depth, fixed_camera, rotations, positions, views, projection, width_px,
              height_px, focal, *self._hall, self._model_matrices(poses_key), g.vertices, g.normals, g.triangles,
              g.instance, g.first, g.count, self._shape_rgb(teams), g.label, g.centre, g.radius, self._light,

@@ -171,13 +171,14 @@ def shade(normals, bar0, bar1, bar2, light, rgb, ambient, diffuse_coefficient, s
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, label_value, width, height,
+def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, label_value, width, height, rows,
                     normals, light, rgb, ambient, diffuse_coefficient, specular_coefficient, near, far, scratch):
     """Draw one clip-space triangle (4, 3) into the float32 depth buffer ``zbuffer`` (h*w, larger is nearer),
     the packed colour buffer ``colour`` (h*w uint32, RGBA bytes) and ``label`` (h*w int32), rows from the bottom.
 
     ``clipped``: ``clip`` is a piece of the near-plane-clipped triangle ``original``, which then gives the
-    shading coordinates, and no near/far test is made (TinyRenderer's ``triangleClipped``). ``scratch``: a
+    shading coordinates, and no near/far test is made (TinyRenderer's ``triangleClipped``). ``rows``: the
+    buffer rows ``(lo, hi)`` drawn (a band of the image; ``(0, height)`` for all). ``scratch``: a
     :func:`new_scratch`.
 
     TinyRenderer tests every point of the triangle's bounding box; here each row's points are first
@@ -197,7 +198,7 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
         lo_y = b3_max(F32(0.0), b3_min(lo_y, points[v, 1]))
         hi_x = b3_min(clamp_x, b3_max(hi_x, points[v, 0]))
         hi_y = b3_min(clamp_y, b3_max(hi_y, points[v, 1]))
-    if not (lo_x <= hi_x and lo_y <= hi_y):
+    if not (lo_x <= hi_x and lo_y <= hi_y) or int(hi_y) < rows[0] or int(lo_y) >= rows[1]:
         return
     ax, ay = float(points[0, 0]), float(points[0, 1])
     s0x, s0y = float(points[2, 0]) - ax, float(points[1, 0]) - ax
@@ -210,7 +211,7 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
     z0, z1, z2 = float(clip[2, 0]), float(clip[2, 1]), float(clip[2, 2])
     w0, w1, w2 = float(screen[0, 3]), float(screen[1, 3]), float(screen[2, 3])
     first_x, last_x = int(lo_x), int(hi_x)
-    for py in range(int(lo_y), int(hi_y) + 1):
+    for py in range(max(int(lo_y), rows[0]), min(int(hi_y) + 1, rows[1])):
         # u.x = a_x px + b_x, u.y = a_y px + b_y, u.z - u.x - u.y: each must have the sign of u.z
         dy = ay - py
         a_x, b_x = s1y, s0y * dy - ax * s1y
@@ -335,13 +336,13 @@ def _clip_edge(tri, a, b, out, count):
 
 
 @njit(cache=True, inline="always")
-def draw_triangle(tri, viewport, zbuffer, colour, label, label_value, width, height, normals, light, rgb,
+def draw_triangle(tri, viewport, zbuffer, colour, label, label_value, width, height, rows, normals, light, rgb,
                   ambient, diffuse_coefficient, specular_coefficient, near, far, scratch):
     """Clip a triangle (4, 3) against the near plane as TinyRenderer does, then draw what is left."""
     if tri[3, 0] < 0 and tri[3, 1] < 0 and tri[3, 2] < 0:
         return
     if tri[3, 0] >= 0 and tri[3, 1] >= 0 and tri[3, 2] >= 0:
-        raster_triangle(tri, tri, False, viewport, zbuffer, colour, label, label_value, width, height, normals,
+        raster_triangle(tri, tri, False, viewport, zbuffer, colour, label, label_value, width, height, rows, normals,
                         light, rgb, ambient, diffuse_coefficient, specular_coefficient, near, far, scratch)
         return
     polygon = np.empty((4, 6), np.float32)
@@ -355,5 +356,5 @@ def draw_triangle(tri, viewport, zbuffer, colour, label, label_value, width, hei
         piece[:, 0] = polygon[:, 0]
         piece[:, 1] = polygon[:, i]
         piece[:, 2] = polygon[:, i + 1]
-        raster_triangle(piece, tri, True, viewport, zbuffer, colour, label, label_value, width, height, normals,
+        raster_triangle(piece, tri, True, viewport, zbuffer, colour, label, label_value, width, height, rows, normals,
                         light, rgb, ambient, diffuse_coefficient, specular_coefficient, near, far, scratch)
