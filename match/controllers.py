@@ -12,7 +12,9 @@ kinds give the same decisions for policies that behave:
   (:attr:`ControllerLimits.group`), started from a clean server process (``forkserver``
   where there is one, else ``spawn``), so a controller cannot reach the simulator's objects.
   Observations go out and actions come back over pipes (the camera images through shared
-  memory, :mod:`match.shared_images`); the processes of one step work in
+  memory of each process's own, :mod:`match.shared_images`); a controller is confined to its
+  robots and everything its policies start ends with it (:mod:`match.confinement`); the processes
+  of one step work in
   parallel, each asked as soon as its robots' observations are built (the runner offers each
   one as the match builds it: the home team's controller acts while the away team's cameras
   are rendered), and a policy that is a :class:`~match.protocol.policy.Thinker` thinks after
@@ -32,8 +34,9 @@ kinds give the same decisions for policies that behave:
   that break their budget make a run depend on timing: for all others, process and
   in-process runs are the same, byte for byte.
 
-A fault is anything a policy raises (every ``BaseException`` but ``KeyboardInterrupt``:
-``SystemExit`` and ``os._exit`` in a controller process included), an action that fails the
+A fault is anything a policy raises (every ``BaseException``, ``SystemExit`` and ``os._exit`` in a
+controller process included, but a ``KeyboardInterrupt`` in the simulator's process, which is the
+user's Ctrl-C; a controller process ignores Ctrl-C, so there it is the policy's own), an action that fails the
 one action check (:func:`match.protocol.actions.parse_action`), or one of the process faults
 above. Reports that fail their checks are not faults: the log records nothing for them
 (:mod:`match.reports`).
@@ -44,6 +47,7 @@ from __future__ import annotations
 import logging
 import multiprocessing
 import signal
+import sys
 import time
 import traceback
 from collections.abc import Callable, Mapping, Sequence
@@ -51,11 +55,14 @@ from dataclasses import dataclass, field
 from multiprocessing.connection import Connection, wait
 from typing import Any, Protocol
 
+import numpy as np
+
+from match.confinement import confine_controller, end_orphans, end_session, guard_simulator
 from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, Thinker, check_pose
 from match.reports import ReportReader
-from match.shared_images import SharedImages, frames_of, unpack
+from match.shared_images import SharedImages, receive_frames, unpack
 from world.process_memory import peak_resident_mb, resident_mb
 
 log = logging.getLogger(__name__)
@@ -141,14 +148,18 @@ class Controllers(Protocol):
 
 
 class InProcessControllers:
-    """The policies called in this process, one after the other (see the module)."""
+    """The policies called in this process, one after the other (see the module). From :meth:`start` to
+    :meth:`close`, ``sys.stdout`` and ``sys.stderr`` cannot be closed (a policy closing them would close the
+    match's progress and messages too)."""
 
     def __init__(self, policies: Mapping[str, Policy]):
         self.agents = tuple(policies)
         self._policies = dict(policies)
         self._reader = ReportReader(self._policies)
+        self._streams: list[tuple[str, _KeptOpen]] = []
 
     def start(self, seeds: Mapping[str, int]) -> Decision:
+        self._keep_streams_open()
         faults = []
         for agent, policy in self._policies.items():
             try:
@@ -167,7 +178,31 @@ class InProcessControllers:
         return Decision(actions, tuple(faults), self._reader.estimates(), self._reader.reports())
 
     def close(self) -> None:
-        pass
+        for name, kept in self._streams:
+            if getattr(sys, name) is kept:
+                setattr(sys, name, kept.stream)
+        self._streams = []
+
+    def _keep_streams_open(self) -> None:
+        for name in ("stdout", "stderr"):
+            stream = getattr(sys, name)
+            if stream is not None and not isinstance(stream, _KeptOpen):
+                kept = _KeptOpen(stream)
+                setattr(sys, name, kept)
+                self._streams.append((name, kept))
+
+
+class _KeptOpen:
+    """A text stream whose ``close`` does nothing; everything else is the stream's."""
+
+    def __init__(self, stream: Any):
+        self.stream = stream
+
+    def close(self) -> None:
+        """Left open: the match still writes to it."""
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
 
 
 class ProcessControllers:
@@ -202,6 +237,7 @@ class ProcessControllers:
         self._reports: dict[str, AgentReport | None] = dict.fromkeys(self.agents)
 
     def start(self, seeds: Mapping[str, int]) -> Decision:
+        guard_simulator()
         faults: list[PolicyFault] = []
         for controller in self._controllers:
             controller.stop()  # from an earlier match, if any
@@ -267,6 +303,7 @@ class ProcessControllers:
         self._step_open, self._offered, self._asked, self._step_faults = False, {}, [], []
         for controller in self._controllers:
             controller.stop()
+        end_orphans()
 
     def _open_step(self) -> None:
         """Begin a step once: read the late answers that arrived, then restart the dead, hung or too big."""
@@ -336,13 +373,13 @@ class _Controller:
         self.probation = False  # missed a deadline: steps do not wait for it (see ProcessControllers)
         self.answers_in_budget = 0  # on probation: answers within the budget in a row
         self.restarts = 0  # in this match
-        self.images = SharedImages(context, len(self.agents))  # kept over restarts: one buffer per controller
+        self.images: SharedImages | None = None  # the image slots of its current process
 
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
         parent, child = self._context.Pipe()
-        process = self._context.Process(target=serve, args=(child, self.factories, self.images.buffer),
-                                        daemon=True, name=f"controller {','.join(self.agents)}")
+        process = self._context.Process(target=serve, args=(child, self.factories), daemon=True,
+                                        name=f"controller {','.join(self.agents)}")
         try:
             process.start()  # kept only once started: a Ctrl-C or SIGTERM in here leaves nothing to stop
         except Exception as error:  # no process could be started: the robots stand
@@ -350,6 +387,11 @@ class _Controller:
         finally:
             child.close()
         self.process, self.conn, self.ready, self.busy = process, parent, False, False
+        self.images = SharedImages(len(self.agents))
+        try:
+            self.images.hand_over(parent, process.pid)
+        except (OSError, ValueError) as error:
+            return self.restart(f"ControllerDied: cannot reach its process ({_describe(error)})")
         return self._send(("reset", self.seeds))
 
     def ask(self, observations: Mapping[str, Mapping[str, Any]]) -> list[PolicyFault]:
@@ -358,6 +400,7 @@ class _Controller:
         self.closed_step = False
         self.busy = True
         self.asked_at = time.perf_counter()
+        assert self.images is not None
         return self._send(("act", self.sequence, self.images.pack(observations)))
 
     def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
@@ -459,10 +502,15 @@ class _Controller:
             if self.process.is_alive():
                 self.process.kill()
                 self.process.join(timeout=5.0)
+            if self.process.pid is not None:
+                end_session(self.process.pid)  # what its policies started and left in its session
             if not self.process.is_alive():
                 self.process.close()
         if self.conn is not None:
             self.conn.close()
+        if self.images is not None:
+            self.images.close()
+            self.images = None
         self.process, self.conn, self.ready, self.busy, self.answer = None, None, False, False, None
         self.probation, self.answers_in_budget = True, 0  # a restarted controller starts on probation
 
@@ -484,18 +532,21 @@ class _Controller:
 # ---- the controller process ---------------------------------------------------------------
 
 
-def serve(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer) -> None:
-    """A controller process's loop: build the policies, then answer resets and steps until told to close
-    (``image_buffer``: the controller's :class:`~match.shared_images.SharedImages` buffer), or until the
-    simulator's end of ``conn`` is closed (it stopped, or was stopped, without a word): then it ends quietly."""
+def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
+    """A controller process's loop: confine itself (:func:`~match.confinement.confine_controller`), take its
+    image slots (:func:`~match.shared_images.receive_frames`), build the policies, then answer resets and
+    steps until told to close, or until the simulator's end of ``conn`` is closed (it stopped, or was
+    stopped, without a word): then it ends quietly."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the simulator's to handle
+    confine_controller()
     try:
-        _answer(conn, factories, image_buffer)
+        frames = receive_frames(conn)
+        _answer(conn, factories, frames)
     except (EOFError, BrokenPipeError, ConnectionResetError):
         return
 
 
-def _answer(conn: Connection, factories: Mapping[str, PolicyFactory], image_buffer) -> None:
+def _answer(conn: Connection, factories: Mapping[str, PolicyFactory], frames: np.ndarray) -> None:
     policies: dict[str, Policy] = {}
     broken: dict[str, str] = {}
     for agent, factory in factories.items():
@@ -505,7 +556,6 @@ def _answer(conn: Connection, factories: Mapping[str, PolicyFactory], image_buff
             broken[agent] = f"PolicyBuildError: {_describe(error)}"
     reader = ReportReader(policies)
     thinkers = {agent: policy for agent, policy in policies.items() if isinstance(policy, Thinker)}
-    frames = frames_of(image_buffer)
     thought: list[PolicyFault] = []  # faults of the thinking after the last answer: sent with the next one
     while True:
         message = conn.recv()
@@ -523,16 +573,18 @@ def _answer(conn: Connection, factories: Mapping[str, PolicyFactory], image_buff
             continue
         _, sequence, observations = message
         observations = unpack(frames, observations)
-        actions, faults = _act_all(policies, observations)
+        actions, faults = _act_all(policies, observations, interrupts_are_faults=True)
         faults += [PolicyFault(a, broken[a]) for a in broken if a in observations]
         faults_sent = [(f.agent, f.error, f.where) for f in thought + faults]
         conn.send(("act", sequence, actions, reader.estimates(), reader.reports(), faults_sent))
         thought = _think_all(thinkers, observations)  # while the simulator plays the next step
 
 
-def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[str, Any]]
-             ) -> tuple[dict[str, Action | None], list[PolicyFault]]:
-    """Each policy's checked action for its observation; a policy that raises or returns a bad action stands."""
+def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[str, Any]],
+             interrupts_are_faults: bool = False) -> tuple[dict[str, Action | None], list[PolicyFault]]:
+    """Each policy's checked action for its observation; a policy that raises or returns a bad action stands.
+    ``interrupts_are_faults``: a ``KeyboardInterrupt`` is the policy's own too (in a controller process,
+    which ignores Ctrl-C), not the user's stop."""
     actions: dict[str, Action | None] = {}
     faults: list[PolicyFault] = []
     for agent, observation in observations.items():
@@ -542,8 +594,11 @@ def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[
             continue
         try:
             actions[agent] = parse_action(agent, policy.act(observation))
-        except KeyboardInterrupt:
-            raise
+        except KeyboardInterrupt as error:
+            if not interrupts_are_faults:
+                raise
+            faults.append(PolicyFault.of(agent, error))
+            actions[agent] = None
         except BaseException as error:  # noqa: B036 - a failing policy must not end the match
             faults.append(PolicyFault.of(agent, error))
             actions[agent] = None
@@ -551,15 +606,14 @@ def _act_all(policies: Mapping[str, Policy], observations: Mapping[str, Mapping[
 
 
 def _think_all(thinkers: Mapping[str, Thinker], observations: Mapping[str, Any]) -> list[PolicyFault]:
-    """Each :class:`~match.protocol.policy.Thinker` that was asked this step thinks; what one raises is its fault."""
+    """Each :class:`~match.protocol.policy.Thinker` that was asked this step thinks, in a controller process;
+    what one raises is its fault (a ``KeyboardInterrupt`` too: the process ignores Ctrl-C)."""
     faults: list[PolicyFault] = []
     for agent, policy in thinkers.items():
         if agent not in observations:
             continue
         try:
             policy.think()
-        except KeyboardInterrupt:
-            raise
         except BaseException as error:  # noqa: B036 - as in _act_all
             faults.append(PolicyFault.of(agent, error))
     return faults

@@ -8,6 +8,13 @@ image into its robot's slot and sends an :class:`ImageSlot` in its place (a blan
 sent as :data:`BLANK`, nothing copied), and :func:`unpack` on the controller's side puts a
 copy of the slot back. The policy gets the same array, byte for byte.
 
+Each controller process's slots are a memory file of their own with no name (``memfd_create``;
+an unlinked temporary file where there is none), whose descriptor goes to that process alone,
+over its pipe, and is then closed in the simulator (:meth:`SharedImages.hand_over`,
+:func:`receive_frames`): a controller maps its own robots' slots and nothing else (a heap
+shared by every controller would put the other team's images in its address space), and the
+simulator's open descriptors do not lead to them.
+
 The simulator writes a slot only when it asks the controller, which it does only when the
 controller has answered the step before (see :mod:`match.controllers`): a controller never
 reads a slot that is being written.
@@ -16,8 +23,13 @@ reads a slot that is being written.
 from __future__ import annotations
 
 import ctypes
+import mmap
+import os
+import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from multiprocessing.reduction import recv_handle, send_handle
 from typing import Any
 
 import numpy as np
@@ -39,12 +51,37 @@ BLANK = ImageSlot(-1)
 
 
 class SharedImages:
-    """``slots`` image slots in shared memory, made with a multiprocessing ``context``; pass
-    :attr:`buffer` to the controller process (as a :class:`~multiprocessing.Process` argument)."""
+    """``slots`` image slots in a memory file of their own, for one controller process (:meth:`hand_over`)."""
 
-    def __init__(self, context, slots: int):
-        self.buffer = context.RawArray(ctypes.c_uint8, max(slots, 1) * IMAGE_BYTES)
-        self._frames = frames_of(self.buffer)
+    def __init__(self, slots: int):
+        size = max(slots, 1) * IMAGE_BYTES
+        self._fd = _anonymous_file()
+        try:
+            os.ftruncate(self._fd, size)
+            self._map = _Mapping(self._fd, size)
+        except BaseException:
+            os.close(self._fd)
+            raise
+        self._frames = self._map.frames()
+
+    def hand_over(self, conn: Connection, pid: int) -> None:
+        """Pass the slots' descriptor to the controller process ``pid`` at the other end of ``conn`` (it takes
+        it with :func:`receive_frames` before its first message), then close it here: the mapping stays."""
+        try:
+            send_handle(conn, self._fd, pid)
+        finally:
+            self._close_descriptor()
+
+    def close(self) -> None:
+        """Unmap the slots (and close the descriptor if it was never handed over); idempotent."""
+        self._close_descriptor()
+        self._frames = np.empty((0, *IMAGE_SHAPE), np.uint8)
+        self._map.close()
+
+    def _close_descriptor(self) -> None:
+        if self._fd >= 0:
+            os.close(self._fd)
+            self._fd = -1
 
     def pack(self, observations: Mapping[str, Any]) -> dict[str, Any]:
         """The observations to send, the i-th one's image moved into slot i. An observation
@@ -63,9 +100,52 @@ class SharedImages:
         return packed
 
 
-def frames_of(buffer) -> np.ndarray:
-    """The image slots of a shared buffer, (slots, height, width, 3) uint8, without a copy."""
-    return np.frombuffer(buffer, dtype=np.uint8).reshape(-1, *IMAGE_SHAPE)
+def receive_frames(conn: Connection) -> np.ndarray:
+    """In the controller process: the image slots :meth:`SharedImages.send` passed over ``conn``, mapped,
+    (slots, height, width, 3) uint8 (the descriptor is closed once mapped)."""
+    fd = recv_handle(conn)
+    try:
+        return _Mapping(fd, os.fstat(fd).st_size).frames()  # mapped for the rest of the process
+    finally:
+        os.close(fd)
+
+
+class _Mapping:
+    """``size`` bytes of the file ``fd`` mapped shared, read-write, by the C library's ``mmap``: unlike
+    :class:`mmap.mmap`, it keeps no descriptor of its own open."""
+
+    _libc = ctypes.CDLL(None, use_errno=True)
+    _libc.mmap.restype = ctypes.c_void_p
+    _libc.mmap.argtypes = (ctypes.c_void_p, ctypes.c_size_t, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_long)
+    _libc.munmap.argtypes = (ctypes.c_void_p, ctypes.c_size_t)
+
+    def __init__(self, fd: int, size: int):
+        address = self._libc.mmap(None, size, mmap.PROT_READ | mmap.PROT_WRITE, mmap.MAP_SHARED, fd, 0)
+        if address in (None, ctypes.c_void_p(-1).value):
+            error = ctypes.get_errno()
+            raise OSError(error, f"cannot map {size} bytes of image slots: {os.strerror(error)}")
+        self._address, self._size = address, size
+
+    def frames(self) -> np.ndarray:
+        """The mapped slots as (slots, height, width, 3) uint8, without a copy."""
+        memory = (ctypes.c_uint8 * self._size).from_address(self._address)
+        return np.frombuffer(memory, dtype=np.uint8).reshape(-1, *IMAGE_SHAPE)
+
+    def close(self) -> None:
+        """Unmap (idempotent); no array from :meth:`frames` may be used after."""
+        if self._address is not None:
+            self._libc.munmap(self._address, self._size)
+            self._address = None
+
+
+def _anonymous_file() -> int:
+    """A descriptor of a memory file without a name, closed on exec."""
+    if hasattr(os, "memfd_create"):
+        return os.memfd_create("robot-images", os.MFD_CLOEXEC)
+    handle = tempfile.TemporaryFile()  # unlinked at once where there is no memfd_create
+    fd = os.dup(handle.fileno())
+    handle.close()
+    return fd
 
 
 def unpack(frames: np.ndarray, observations: Mapping[str, Any]) -> dict[str, Any]:

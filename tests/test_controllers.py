@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import functools
 import json
+import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -160,3 +162,81 @@ def test_peak_resident_memory_of_the_live_controller_processes() -> None:
     finally:
         controllers.close()
     assert controllers.peak_resident_mb() is None  # closed: no live process
+
+
+def test_a_controller_maps_only_its_own_robots_images_and_the_simulator_holds_none_open() -> None:
+    """A hostile policy finds no image memory of the other team: not among the descriptors of the processes
+    above it (the simulator's included), not in its own address space beyond its own robots' slots."""
+    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:SnoopsImages"),
+                 "home_1": functools.partial(make_policy, "tests.user_policies:ImageProbe"),
+                 "away_0": functools.partial(make_policy, "tests.user_policies:ImageProbe"),
+                 "away_1": functools.partial(make_policy, "tests.user_policies:ImageProbe")}
+    rng = np.random.default_rng(8)
+    with ProcessControllers(factories, ControllerLimits(group="team", step_budget_s=30.0)) as controllers:
+        controllers.start(dict.fromkeys(factories, 0))
+        for _ in range(3):
+            images = {agent: rng.integers(1, 256, (120, 160, 3), dtype=np.uint8) for agent in factories}
+            decision = controllers.decide({agent: {"image": images[agent]} for agent in factories})
+            assert not decision.faults
+            assert decision.estimates["home_0"] == (0.0, 2.0, 0.0)  # nothing opened; its team's two slots
+            for agent in ("away_0", "away_1"):
+                image = images[agent]
+                assert decision.estimates[agent] == (image.flat[0] / 10.0, int(image.sum()) % 1000 / 100.0, 120.0)
+
+
+def _left_behind() -> list[int]:
+    """The processes of LeavesChildren still running (found by their command line)."""
+    from tests.user_policies import LEFT_BEHIND
+
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/cmdline", "rb") as cmdline:
+                    if LEFT_BEHIND.encode() in cmdline.read():
+                        found.append(int(entry))
+            except OSError:
+                continue
+    return found
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")
+def test_no_process_a_policy_starts_outlives_its_match() -> None:
+    for pid in _left_behind():  # from an earlier run that failed
+        os.kill(pid, signal.SIGKILL)
+    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:LeavesChildren"),
+                 "away_0": functools.partial(make_policy, "stand")}
+    with ProcessControllers(factories, ControllerLimits(group="robot")) as controllers:
+        decision = controllers.start(dict.fromkeys(factories, 0))
+        assert not decision.faults
+        deadline = time.monotonic() + 5.0
+        while len(_left_behind()) < 4 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(_left_behind()) == 4  # in its session, in a session of its own, forked, a daemon
+        controllers.decide({agent: {} for agent in factories})
+    assert _left_behind() == []
+
+
+def test_a_keyboard_interrupt_raised_by_a_policy_costs_only_its_robot() -> None:
+    """In a controller process Ctrl-C is ignored: a KeyboardInterrupt is the policy's own, a fault like another."""
+    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:InterruptsItself"),
+                 "home_1": functools.partial(make_policy, GOOD)}
+    with ProcessControllers(factories, ControllerLimits(group="team", step_budget_s=30.0)) as controllers:
+        controllers.start(dict.fromkeys(factories, 0))
+        for step in range(1, 4):
+            decision = controllers.decide({agent: {} for agent in factories})
+            assert [(f.agent, f.error) for f in decision.faults] == [("home_0", "KeyboardInterrupt: not the user's")]
+            assert decision.estimates["home_1"][0] == step / 100.0  # its teammate acted
+        assert controllers._of_agent["home_0"].restarts == 0
+
+
+def test_in_process_a_policy_cannot_close_the_matchs_output(tmp_path: Path, capsys) -> None:
+    stdout, stderr = sys.stdout, sys.stderr
+    lineup = Lineup("stand", "stand", {"home_0": "tests.user_policies:ClosesOutput"})
+    run_lineup_match(tmp_path, lineup, home=1, away=1, half_seconds=60.0, seed=1, progress=True, max_steps=30,
+                     referee=QUICK, controllers=None)
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert summary["completed"] and summary["steps"] == 30 and summary["faults"]["total"] == 0
+    assert sys.stdout is stdout and sys.stderr is stderr and not stdout.closed and not stderr.closed
+    print("still open")
+    assert "still open" in capsys.readouterr().out

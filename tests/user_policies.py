@@ -202,3 +202,98 @@ class RaisesOnReset(Spinner):
     def reset(self, agent_id: str, seed: int) -> None:
         super().reset(agent_id, seed)
         raise RuntimeError("cannot reset")
+
+
+def _parent_of(pid: int) -> int:
+    with open(f"/proc/{pid}/stat", "rb") as stat:
+        return int(stat.read().rsplit(b")", 1)[1].split()[1])
+
+
+class SnoopsImages(Spinner):
+    """Looks for camera images beyond its own, as a hostile policy would, and zeroes what it can open: the
+    memory files held open by its ancestors (the simulator among them, ``/proc/PID/fd``), and the image
+    memory mapped in its own process. Reports (files of its ancestors it opened, image slots it maps, 0)."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        super().reset(agent_id, seed)
+        self.found = (0.0, 0.0, 0.0)
+
+    def act(self, observation: dict) -> dict:
+        import mmap
+
+        opened = 0
+        pid = os.getpid()
+        for _ in range(3):  # the server process that forked it, the simulator, what started that
+            pid = _parent_of(pid)
+            try:
+                entries = os.listdir(f"/proc/{pid}/fd")
+            except OSError:
+                continue
+            for entry in entries:
+                try:
+                    target = os.readlink(f"/proc/{pid}/fd/{entry}")
+                    if "memfd:" not in target and "pym-" not in target:
+                        continue
+                    fd = os.open(f"/proc/{pid}/fd/{entry}", os.O_RDWR)
+                except OSError:
+                    continue
+                try:
+                    size = os.fstat(fd).st_size
+                    if size:
+                        with mmap.mmap(fd, size) as memory:
+                            memory[:] = bytes(size)
+                        opened += 1
+                finally:
+                    os.close(fd)
+        slots = 0
+        with open("/proc/self/maps", encoding="utf-8") as maps:
+            for line in maps:
+                if "robot-images" in line or "pym-" in line:
+                    low, high = (int(part, 16) for part in line.split()[0].split("-"))
+                    slots += (high - low) // (120 * 160 * 3)
+        self.found = (float(opened), float(slots), 0.0)
+        return make_action(Motion.STAND, camera=CameraChoice.TOP)
+
+    def pose_estimate(self) -> tuple[float, float, float]:
+        return self.found
+
+
+LEFT_BEHIND = "9876.54321"  # how long the processes of LeavesChildren sleep: the tests look for it
+
+
+class LeavesChildren(Spinner):
+    """Starts processes that would outlive its controller: a child in its session, one in a session of its
+    own, a forked copy of itself, and a daemon (forked twice, in a new session); each sleeps
+    :data:`LEFT_BEHIND` seconds."""
+
+    def reset(self, agent_id: str, seed: int) -> None:
+        import subprocess
+
+        super().reset(agent_id, seed)
+        subprocess.Popen(["sleep", LEFT_BEHIND])
+        subprocess.Popen(["sleep", LEFT_BEHIND], start_new_session=True)
+        if os.fork() == 0:
+            os.execvp("sleep", ["sleep", LEFT_BEHIND])
+        if os.fork() == 0:
+            os.setsid()
+            if os.fork() == 0:
+                os.execvp("sleep", ["sleep", LEFT_BEHIND])
+            os._exit(0)
+
+
+class InterruptsItself(Spinner):
+    """Raises ``KeyboardInterrupt`` in every act."""
+
+    def act(self, observation: dict) -> dict:
+        raise KeyboardInterrupt("not the user's")
+
+
+class ClosesOutput(Spinner):
+    """Closes the process's ``sys.stdout`` and ``sys.stderr`` in its first act."""
+
+    def act(self, observation: dict) -> dict:
+        import sys
+
+        sys.stdout.close()
+        sys.stderr.close()
+        return super().act(observation)
