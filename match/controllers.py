@@ -19,8 +19,8 @@ kinds give the same decisions for policies that behave:
   one as the match builds it: the home team's controller acts while the away team's cameras
   are rendered), and a policy that is a :class:`~match.protocol.policy.Thinker` thinks after
   the answer went out, while the simulator plays the next step. A controller that has not
-  answered within the step budget
-  (:attr:`ControllerLimits.step_budget_s`) gets its robots a stand for that step and a
+  answered within the step budget (:attr:`ControllerLimits.step_budget_s`, processor time: one
+  kept from the processor by other work is waited for) gets its robots a stand for that step and a
   fault; while it is still busy its robots stand, and its late answer is dropped. It is then
   on probation: steps no longer wait for it (its answer counts when it comes while the others
   are awaited), so a slow controller cannot slow the match, and every late answer over the
@@ -32,7 +32,7 @@ kinds give the same decisions for policies that behave:
   before it was ready (its build or reset ends its process) or after :data:`MAX_RESTARTS`
   restarts stays stopped: its robots stand for the rest of the match. Only controllers
   that break their budget make a run depend on timing: for all others, process and
-  in-process runs are the same, byte for byte.
+  in-process runs are the same, byte for byte, however loaded the machine.
 
 A fault is anything a policy raises (every ``BaseException``, ``SystemExit`` and ``os._exit`` in a
 controller process included, but a ``KeyboardInterrupt`` in the simulator's process, which is the
@@ -63,7 +63,7 @@ from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, Thinker, check_pose
 from match.reports import ReportReader
 from match.shared_images import SharedImages, receive_frames, unpack
-from world.process_memory import peak_resident_mb, resident_mb
+from world.process_memory import cpu_seconds, peak_resident_mb, resident_mb
 
 log = logging.getLogger(__name__)
 
@@ -71,6 +71,7 @@ PolicyFactory = Callable[[], Policy]  # builds a robot's policy; picklable for c
 GROUPS = ("robot", "team")
 MEMORY_CHECK_EVERY_STEPS = 25
 PROBATION_ANSWERS = 3  # answers within the step budget in a row that end a controller's probation
+STARVED_POLL_S = 0.02  # how often a controller kept from the processor is asked how much it has used
 CLOSE_WAIT_S = 1.0  # at most this long for the answers of a step the match ended before
 MAX_RESTARTS = 100  # restarts of one controller in a match; then it stays stopped (each costs about 20-50 ms)
 # the allowed range of each number of ControllerLimits (seconds, MiB)
@@ -82,7 +83,10 @@ LIMIT_BOUNDS = {"step_budget_s": (0.001, 3600.0), "start_budget_s": (0.1, 3600.0
 class ControllerLimits:
     """How controller processes are run and held to account.
 
-    ``step_budget_s``: wall seconds a controller has to answer one step (all its robots);
+    ``step_budget_s``: processor seconds a controller may spend on one step (all its robots) before its
+    robots stand for it; one that other work keeps from the processor is waited for (up to ``hang_s``
+    past the budget), so a match does not depend on the machine's load (where the system does not
+    report processor time, Linux's ``/proc``, the budget is wall seconds);
     ``start_budget_s``: to build and reset its policies before the first step; ``hang_s``:
     wall seconds past a missed deadline after which a controller still busy is restarted;
     ``memory_mb``: resident memory (MiB) past which it is stopped and restarted (checked
@@ -272,6 +276,7 @@ class ProcessControllers:
         self._step_open, self._offered, self._asked, self._step_faults = False, {}, [], []
         in_good_standing = [c for c in asked if not c.probation]
         self._collect(in_good_standing, _answered, time.perf_counter() + self.limits.step_budget_s, faults)
+        self._wait_for_the_starved(in_good_standing, faults)
         actions: dict[str, Action | None] = dict.fromkeys(self.agents)
         for controller in asked:
             controller.closed_step = True
@@ -282,6 +287,20 @@ class ProcessControllers:
                 faults += [PolicyFault(a, f"ControllerTimeout: no action within the step budget of "
                                           f"{self.limits.step_budget_s:g} s") for a in controller.agents]
         return Decision(actions, tuple(faults), dict(self._estimates), dict(self._reports))
+
+    def _wait_for_the_starved(self, controllers: Sequence[_Controller], faults: list[PolicyFault]) -> None:
+        """Go on waiting for those still busy that have not used their step budget of processor time: other
+        work kept them from the processor, and that must not decide what a robot does (it would make a match
+        depend on the machine's load). Each is waited for up to its hang limit of wall time."""
+        budget = self.limits.step_budget_s
+        starved = [c for c in controllers if c.busy and c.starved(budget)]
+        while starved:
+            now = time.perf_counter()
+            cutoff = min(c.asked_at for c in starved) + budget + self.limits.hang_s
+            if now >= cutoff:
+                return
+            self._collect(starved, _answered, min(cutoff, now + STARVED_POLL_S), faults)
+            starved = [c for c in starved if c.busy and c.starved(budget)]
 
     def peak_resident_mb(self) -> float | None:
         """The peak resident memory (MiB) of the live controller processes, summed: each one's high-water mark
@@ -367,6 +386,7 @@ class _Controller:
         self.ready = False  # reset answered: it can be asked
         self.busy = False  # asked, not answered
         self.asked_at = 0.0
+        self.asked_cpu_s: float | None = None  # the processor time its process had used when last asked
         self.sequence = 0
         self.answer: dict[str, Action | None] | None = None
         self.closed_step = False  # the step it was last asked for has been played
@@ -400,8 +420,17 @@ class _Controller:
         self.closed_step = False
         self.busy = True
         self.asked_at = time.perf_counter()
+        self.asked_cpu_s = cpu_seconds(self.process.pid) if self.process is not None else None
         assert self.images is not None
         return self._send(("act", self.sequence, self.images.pack(observations)))
+
+    def starved(self, budget_s: float) -> bool:
+        """Whether it has used less than ``budget_s`` of processor time since it was asked (False where the
+        system does not say: then the wall clock alone counts)."""
+        if self.process is None or self.asked_cpu_s is None:
+            return False
+        used = cpu_seconds(self.process.pid)
+        return used is not None and used - self.asked_cpu_s < budget_s
 
     def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
         """Read one message (an answer, a late answer, a reset's answer) or the process's death."""

@@ -240,3 +240,53 @@ def test_in_process_a_policy_cannot_close_the_matchs_output(tmp_path: Path, caps
     assert sys.stdout is stdout and sys.stderr is stderr and not stdout.closed and not stderr.closed
     print("still open")
     assert "still open" in capsys.readouterr().out
+
+
+def _burn(seconds: float) -> None:
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        pass
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processor time is read from /proc")
+def test_a_match_is_the_same_on_a_loaded_machine(tmp_path: Path) -> None:
+    """Processes burning both cores beside a match with a controller per robot and a budget of processor
+    time (20 ms) a few times what its policies need: the match is the same, byte for byte."""
+    import multiprocessing
+
+    limits = ControllerLimits(step_budget_s=0.02, group="robot")
+    lineup = Lineup(GOOD, GOOD)
+    idle, _ = play(tmp_path / "idle", lineup, limits)
+    burners = [multiprocessing.get_context("spawn").Process(target=_burn, args=(120.0,), daemon=True)
+               for _ in range(2)]
+    for burner in burners:
+        burner.start()
+    try:
+        loaded, _ = play(tmp_path / "loaded", lineup, limits)
+    finally:
+        for burner in burners:
+            burner.kill()
+            burner.join()
+    assert idle["faults"]["total"] == loaded["faults"]["total"] == 0
+    for name in ("events.jsonl", "match_log.npz"):
+        assert (tmp_path / "idle" / name).read_bytes() == (tmp_path / "loaded" / name).read_bytes(), name
+
+
+def test_a_controller_kept_from_the_processor_is_waited_for() -> None:
+    """Stopped (as a loaded machine would keep it from the processor) before it is asked, a controller has
+    used none of its processor budget when the wall-clock budget has passed: its answer is awaited."""
+    import threading
+
+    factories = {"home_0": functools.partial(make_policy, GOOD)}
+    with ProcessControllers(factories, ControllerLimits(step_budget_s=0.02, hang_s=5.0, group="robot")) as controllers:
+        controllers.start({"home_0": 0})
+        pid = controllers._of_agent["home_0"].process.pid
+        os.kill(pid, signal.SIGSTOP)
+        resume = threading.Timer(0.3, os.kill, (pid, signal.SIGCONT))
+        resume.start()
+        started = time.perf_counter()
+        decision = controllers.decide({"home_0": {}})
+        waited = time.perf_counter() - started
+        resume.join()
+    assert not decision.faults and decision.estimates["home_0"][0] == 0.01, decision
+    assert waited >= 0.25

@@ -297,3 +297,4 @@ class ClosesOutput(Spinner):
         sys.stdout.close()
         sys.stderr.close()
         return super().act(observation)
+

@@ -1,4 +1,4 @@
-"""A process's resident memory and its peak, as the system reports them (Linux's ``/proc``)."""
+"""A process's resident memory, its peak and its processor time, as the system reports them (Linux's ``/proc``)."""
 
 from __future__ import annotations
 
@@ -29,3 +29,23 @@ def peak_resident_mb(pid: int) -> float | None:
     except (OSError, ValueError):
         return None
     return None
+
+
+CLOCK_TICKS_PER_S = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+
+
+def cpu_seconds(pid: int) -> float | None:
+    """The processor time process ``pid`` has used so far, in seconds (Linux): its main thread's to the
+    nanosecond where the scheduler reports it, else all its threads' to the clock tick; None where the
+    system does not say."""
+    try:
+        with open(f"/proc/{pid}/schedstat", "rb") as schedstat:
+            return int(schedstat.read().split()[0]) / 1e9
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as stat:
+            fields = stat.read().rsplit(b")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS_PER_S
+    except (OSError, ValueError, IndexError):
+        return None

@@ -242,7 +242,8 @@ def add_controller_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--controller-per", choices=GROUPS, default=default.group,
                         help=f"one controller process per robot or per team (default {default.group})")
     parser.add_argument("--step-budget", type=number_in(*budget), default=default.step_budget_s, metavar="S",
-                        help=f"wall seconds a controller has to answer one step before its robots stand for it, "
+                        help=f"processor seconds a controller may spend on one step before its robots stand for "
+                             f"it (one kept waiting for the processor by other work is waited for), "
                              f"{budget[0]:g}-{budget[1]:g} (default {default.step_budget_s:g})")
     parser.add_argument("--controller-memory", type=number_in(*memory), default=default.memory_mb, metavar="MB",
                         help=f"resident memory (MiB) past which a controller process is restarted, "
