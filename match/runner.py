@@ -51,6 +51,7 @@ log = logging.getLogger(__name__)
 
 FAULT_DETAILS_PER_AGENT = 20  # faults beyond this are counted, not described
 PROGRESS_EVERY_STEPS = 25
+STATE_HASHES = "state_hashes.txt"  # "step digest" per line, written on request (run_match's state_hashes)
 POLICY_SEED_STREAM = 2  # Match.reset draws streams 0 (world) and 1 (radio) from the match seed
 
 
@@ -156,6 +157,7 @@ def run_match(
     match: Match | None = None,
     observer: MatchObserver | None = None,
     policy_seeds: Mapping[str, int] | None = None,
+    state_hashes: bool = False,
 ) -> MatchSummary:
     """Play one match to the end (or ``max_steps``, or until ``observer`` is done) and write its outputs.
 
@@ -164,8 +166,12 @@ def run_match(
     builds when ``match`` is None. ``policy_seeds``: the seed
     each policy's ``reset`` gets (default: drawn from ``seed``). The outputs are written
     however the run ends; one stopped by an error or Ctrl-C has ``completed`` False in its
-    summary, and the error is raised again.
+    summary, and the error is raised again. ``state_hashes``: also write ``STATE_HASHES`` into ``out_dir``,
+    each step's number and the world's :meth:`~world.world.World.state_digest` before it is played (to find
+    the first step at which two runs differ, on two machines say).
     """
+    if state_hashes and out_dir is None:
+        raise ValueError("state hashes need an output directory")
     if isinstance(policies, (InProcessControllers, ProcessControllers)):
         controllers: Controllers = policies
     else:
@@ -174,7 +180,8 @@ def run_match(
     try:
         if match is None:
             match = own_match = Match(config)
-        return _run(config, controllers, seed, out_dir, progress, max_steps, match, observer, policy_seeds)
+        return _run(config, controllers, seed, out_dir, progress, max_steps, match, observer, policy_seeds,
+                    state_hashes)
     finally:
         controllers.close()
         if own_match is not None:
@@ -183,7 +190,7 @@ def run_match(
 
 def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path | None, progress: bool,
          max_steps: int | None, match: Match, observer: MatchObserver | None,
-         policy_seeds: Mapping[str, int] | None) -> MatchSummary:
+         policy_seeds: Mapping[str, int] | None, state_hashes: bool) -> MatchSummary:
     missing = [a for a in match.agent_names if a not in controllers.agents]
     if missing:
         raise ValueError(f"no policy for agents {missing}; policies given for {sorted(controllers.agents)}")
@@ -192,6 +199,7 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)
     events_file = open(out_dir / "events.jsonl", "w", encoding="utf-8") if out_dir else None
+    hashes_file = open(out_dir / STATE_HASHES, "w", encoding="ascii") if out_dir and state_hashes else None
     faults = FaultRecord()
     radio = TeamRadio()
     match_log = MatchLog(match.agent_names)
@@ -210,6 +218,8 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
         while not match.finished and (max_steps is None or steps < max_steps):
             if observer is not None and observer.done(match):
                 break
+            if hashes_file:
+                hashes_file.write(f"{steps} {match.world.state_digest()}\n")
             decision = controllers.decide({a: observations[a] for a in match.agent_names})
             _record_faults(decision, faults, match, steps, events_file)
             actions = _playable(match, {agent: decision.actions.get(agent) for agent in match.agent_names}, faults,
@@ -237,6 +247,8 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
         bar.close()
         if events_file:
             events_file.close()
+        if hashes_file:
+            hashes_file.close()
         summary = _summarize(match, seed, time.perf_counter() - started, steps, faults, radio, stopped)
         if out_dir is not None:
             summary = _write_outputs(out_dir, config, match, match_log, summary)

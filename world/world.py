@@ -9,6 +9,7 @@ is available here for evaluation; a robot's own view is :meth:`World.sensors` an
 from __future__ import annotations
 
 import copy
+import hashlib
 import logging
 import math
 from collections.abc import Iterator, Sequence
@@ -467,6 +468,21 @@ class World:
             robots.append((position, orientation, angles))
         ball = pb.getBasePositionAndOrientation(self._ball, physicsClientId=client)
         return BodyPoses(tuple(robots), ball, tuple(self._teams[rid] for rid in self._bodies))
+
+    def state_digest(self) -> str:
+        """A short hash (16 hex digits) of the world's physical state: the time, every robot's base pose and
+        velocity and its joints' angles and speeds, the ball's pose and velocity, bit for bit. Two runs whose
+        digests differ at a step first differed in the step before it (a debugging aid across machines)."""
+        client, numbers = self._client, [self.time_s]
+        for body in (*self._bodies.values(), self._ball):
+            position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=client)
+            linear, angular = pb.getBaseVelocity(body, physicsClientId=client)
+            numbers += (*position, *orientation, *linear, *angular)
+            joints = self._movable_joints.get(body)
+            if joints:
+                for state in pb.getJointStates(body, joints, physicsClientId=client):
+                    numbers += state[:2]
+        return hashlib.blake2b(np.asarray(numbers, np.float64).tobytes(), digest_size=8).hexdigest()
 
     def set_body_poses(self, poses: BodyPoses) -> None:
         """Put every body where ``poses`` says, at rest (for a copy of a world that only draws: no physics is

@@ -61,11 +61,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--video", type=robot_or_all, action="append", default=[], metavar="ROBOT",
                         help="write video_ROBOT.mp4: the robot's camera frames beside its vision debug overlay and a "
                              "field map with its estimate and true pose (repeatable; all: every robot)")
+    parser.add_argument("--state-hashes", action="store_true",
+                        help="also write state_hashes.txt: each step's number and a hash of the world's state, to "
+                             "find the first step at which two runs of the same match differ (on two machines)")
     add_controller_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
     from match.protocol.ids import roster
+    from match.runner import STATE_HASHES
     from scenarios.matches.play import Lineup, run_lineup_match, video_robots
     from scenarios.matches.video import video_name
 
@@ -78,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
         summary = run_lineup_match(
             args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
             seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
-            controllers=controller_limits(args),
+            controllers=controller_limits(args), state_hashes=args.state_hashes,
         )
     except KeyboardInterrupt:
         print(f"robotstadium match: interrupted; what was played is in {args.out} "
@@ -91,6 +95,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"{result}; {summary.sim_seconds:.0f} s simulated in {summary.wall_seconds:.0f} s "
           f"({summary.real_time_factor:.2f}x real time)")
     print(Path(args.out) / "summary.json")
+    if args.state_hashes:
+        print(Path(args.out) / STATE_HASHES)
     for agent in video_robots(args.video, roster(args.home_players, args.away_players)):
         if (Path(args.out) / video_name(agent)).exists():  # none for a robot whose camera gave no frame
             print(Path(args.out) / video_name(agent))

@@ -102,6 +102,7 @@ def run_lineup_match(
     referee: Mapping[str, object] | None = None,
     videos: Sequence[str] = (),
     controllers: ControllerLimits | None = None,
+    state_hashes: bool = False,
 ) -> MatchSummary:
     """Play one match of ``home`` against ``away`` robots with the line-up's policies.
 
@@ -109,7 +110,8 @@ def run_lineup_match(
     tournament's shorter pauses before the kick-off, for tests). ``videos``: robots (agent
     ids, or ``all``) whose camera videos are written into ``out_dir`` (``video_<agent>.mp4``).
     ``controllers``: the limits of the policies' controller processes; None: the policies run in
-    this process.
+    this process. ``state_hashes``: write each step's hash of the world's state (see
+    :func:`~match.runner.run_match`).
     """
     config = match_config(home, away, half_seconds, shootout, referee)
     agents = roster(home, away)
@@ -122,12 +124,12 @@ def run_lineup_match(
         policies = lineup.controllers(agents, controllers)
         if not filmed:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
-                             match=match)
+                             match=match, state_hashes=state_hashes)
         from scenarios.matches.video import VideoRecorder  # only when a video is asked for (not in tournaments)
 
         assert out_dir is not None
         with VideoRecorder(out_dir, filmed) as recorder:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
-                             match=match, observer=recorder)
+                             match=match, observer=recorder, state_hashes=state_hashes)
     finally:
         match.close()
