@@ -300,3 +300,40 @@ def test_a_sigterm_stops_a_match_as_ctrl_c_does_and_leaves_its_outputs(tmp_path:
     assert "robotstadium match: interrupted" in stderr and "Traceback" not in stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["completed"] is False and summary["stopped_reason"] == "interrupted"
+
+
+def _interrupt(*_args, **_kwargs):
+    raise KeyboardInterrupt
+
+
+def test_a_match_interrupted_before_it_began_says_nothing_was_written(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import scenarios.matches.play as play
+
+    monkeypatch.setattr(play, "run_lineup_match", _interrupt)
+    code = cli.main(["match", "--home", "stand", "--away", "stand", "--out", str(tmp_path / "never")])
+    stderr = capsys.readouterr().err
+    assert code == cli.EXIT_INTERRUPTED and "nothing was written" in stderr and "never" not in stderr
+    assert not (tmp_path / "never").exists()
+
+
+def test_a_match_interrupted_while_its_replay_page_is_written_ends_with_130(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import scenarios.replay as replay
+
+    monkeypatch.setattr(replay, "write_replay", _interrupt)
+    code = cli.main(["match", "--home", "stand", "--away", "stand", "--home-players", "1", "--away-players", "1",
+                     "--half-seconds", "1", "--no-shootout", "--no-progress", "--in-process",
+                     "--out", str(tmp_path)])
+    stderr = capsys.readouterr().err
+    assert code == cli.EXIT_INTERRUPTED and "replay page" in stderr and "Traceback" not in stderr
+    assert json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))["completed"] is True
+
+
+def test_any_command_interrupted_ends_with_130_and_one_line(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    from scenarios.cli import localize
+
+    monkeypatch.setattr(localize, "run", _interrupt)  # read when the parser is built
+    assert cli.main(["localize"]) == cli.EXIT_INTERRUPTED
+    assert capsys.readouterr().err.strip() == "robotstadium localize: interrupted"

@@ -11,7 +11,8 @@ exit code 2 before anything runs or is written. Errors of the library (a
 from a bad argument or input file) end it the same way, also before anything is written; a
 file that cannot be written while the command runs ends it the same way with exit code 1.
 A SIGTERM is a Ctrl-C (``KeyboardInterrupt``): a tournament or a scenario batch stops its
-workers and keeps its finished tasks for ``--resume`` (exit code 130).
+workers and keeps its finished tasks for ``--resume``; every command ends with exit code 130
+and one line that names only what exists.
 """
 
 from __future__ import annotations
@@ -70,6 +71,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with terminate_as_interrupt():  # ``kill PID`` stops a command as Ctrl-C does
             return handler(args)
+    except KeyboardInterrupt:  # one its command did not handle itself: nothing it names was finished
+        print(f"robotstadium {args.command}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except (WorldError, MatchError, ValueError) as error:
         print(f"robotstadium {args.command}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_USAGE

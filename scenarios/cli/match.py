@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 
 from agents.policies import DEFAULT_POLICY
@@ -78,6 +79,7 @@ def run(args: argparse.Namespace) -> int:
     if twice:
         raise ValueError(f"--policy names {', '.join(twice)} more than once")
     lineup = Lineup(args.home, args.away, dict(args.policy))
+    started = time.time()
     try:
         summary = run_lineup_match(
             args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
@@ -85,8 +87,12 @@ def run(args: argparse.Namespace) -> int:
             controllers=controller_limits(args), state_hashes=args.state_hashes,
         )
     except KeyboardInterrupt:
-        print(f"robotstadium match: interrupted; what was played is in {args.out} "
-              "(summary.json: completed false)", file=sys.stderr)
+        written = Path(args.out) / "summary.json"
+        if written.exists() and written.stat().st_mtime >= started:
+            print(f"robotstadium match: interrupted; what was played is in {args.out} "
+                  "(summary.json: completed false)", file=sys.stderr)
+        else:
+            print("robotstadium match: interrupted before the match began; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED
     score = summary.score
     result = f"home {score['home']} - {score['away']} away"
@@ -103,6 +109,11 @@ def run(args: argparse.Namespace) -> int:
     if args.replay:
         from scenarios.replay import write_replay
 
-        for path in write_replay(args.out, plots=True):
-            print(path)
+        try:
+            for path in write_replay(args.out, plots=True):
+                print(path)
+        except KeyboardInterrupt:
+            print(f"robotstadium match: interrupted while the replay page was written; the match is in {args.out} "
+                  f"(robotstadium replay {args.out} writes the page)", file=sys.stderr)
+            return EXIT_INTERRUPTED
     return EXIT_OK
