@@ -198,18 +198,19 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
     out_dir = Path(out_dir) if out_dir is not None else None
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)
-    events_file = open(out_dir / "events.jsonl", "w", encoding="utf-8") if out_dir else None
-    hashes_file = open(out_dir / STATE_HASHES, "w", encoding="ascii") if out_dir and state_hashes else None
     faults = FaultRecord()
     radio = TeamRadio()
     match_log = MatchLog(match.agent_names)
     watcher = observer if isinstance(observer, ObservationWatcher) else None
     started = time.perf_counter()
     total_play_s = 2 * config.referee.half_seconds
-    bar = tqdm(total=round(total_play_s), unit="s", desc="match", disable=not progress, dynamic_ncols=True)
     steps = 0
     stopped: BaseException | None = None
-    try:
+    events_file = hashes_file = bar = None
+    try:  # from here on, however the run ends, its outputs are written
+        events_file = open(out_dir / "events.jsonl", "w", encoding="utf-8") if out_dir else None
+        hashes_file = open(out_dir / STATE_HASHES, "w", encoding="ascii") if out_dir and state_hashes else None
+        bar = tqdm(total=round(total_play_s), unit="s", desc="match", disable=not progress, dynamic_ncols=True)
         decision = controllers.start(seeds)
         observations = match.reset(seed)
         _write_events(events_file, match.events)
@@ -242,9 +243,10 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
         stopped = error
         raise
     finally:
-        if progress:
-            _update_bar(bar, match, total_play_s, time.perf_counter() - started)
-        bar.close()
+        if bar is not None:
+            if progress:
+                _update_bar(bar, match, total_play_s, time.perf_counter() - started)
+            bar.close()
         if events_file:
             events_file.close()
         if hashes_file:

@@ -211,8 +211,9 @@ def _parent_of(pid: int) -> int:
 
 class SnoopsImages(Spinner):
     """Looks for camera images beyond its own, as a hostile policy would, and zeroes what it can open: the
-    memory files held open by its ancestors (the simulator among them, ``/proc/PID/fd``), and the image
-    memory mapped in its own process. Reports (files of its ancestors it opened, image slots it maps, 0)."""
+    image memory files held open by its ancestors (the simulator among them, ``/proc/PID/fd``), and the
+    image memory mapped in its own process. Reports (files of its ancestors it opened, image slots it maps,
+    0)."""
 
     def reset(self, agent_id: str, seed: int) -> None:
         super().reset(agent_id, seed)
@@ -232,7 +233,7 @@ class SnoopsImages(Spinner):
             for entry in entries:
                 try:
                     target = os.readlink(f"/proc/{pid}/fd/{entry}")
-                    if "memfd:" not in target and "pym-" not in target:
+                    if "robot-images" not in target:
                         continue
                     fd = os.open(f"/proc/{pid}/fd/{entry}", os.O_RDWR)
                 except OSError:
@@ -248,7 +249,7 @@ class SnoopsImages(Spinner):
         slots = 0
         with open("/proc/self/maps", encoding="utf-8") as maps:
             for line in maps:
-                if "robot-images" in line or "pym-" in line:
+                if "robot-images" in line:
                     low, high = (int(part, 16) for part in line.split()[0].split("-"))
                     slots += (high - low) // (120 * 160 * 3)
         self.found = (float(opened), float(slots), 0.0)
