@@ -22,13 +22,15 @@ Outputs in ``out_dir``: ``summary.json`` (with each team's match statistics, see
 
 from __future__ import annotations
 
+import enum
 import importlib
 import json
 import logging
 import platform
+import sys
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
@@ -114,6 +116,8 @@ class MatchSummary:
     statistics: dict | None = None  # per team (match.statistics), when the match wrote its outputs
     completed: bool = True  # False: the run stopped on an error or an interruption (``stopped_reason``)
     stopped_reason: str | None = None
+    policy_seeds: dict[str, int] | None = None  # the seed each policy's reset got
+    played_by: dict | None = None  # who played and where, as the caller recorded it (run_match's played_by)
 
     @property
     def real_time_factor(self) -> float:
@@ -140,7 +144,14 @@ class MatchSummary:
                 "away_players": config.away_players,
                 "half_seconds": config.referee.half_seconds,
                 "shootout": config.referee.shootout,
+                "referee": _plain(asdict(config.referee)),
+                "radio": _plain(asdict(config.radio)),
+                "world": {"physics": _plain(asdict(config.world.physics)), "render": _plain(asdict(config.world.render))},
+                "initial_camera": int(config.initial_camera),
             },
+            "policy_seeds": self.policy_seeds,
+            "played_by": self.played_by,
+            "command_line": list(sys.argv),
             "versions": package_versions(),
             "machine": machine_description(),
         }
@@ -158,6 +169,7 @@ def run_match(
     observer: MatchObserver | None = None,
     policy_seeds: Mapping[str, int] | None = None,
     state_hashes: bool = False,
+    played_by: Mapping[str, object] | None = None,
 ) -> MatchSummary:
     """Play one match to the end (or ``max_steps``, or until ``observer`` is done) and write its outputs.
 
@@ -168,7 +180,8 @@ def run_match(
     however the run ends; one stopped by an error or Ctrl-C has ``completed`` False in its
     summary, and the error is raised again. ``state_hashes``: also write ``STATE_HASHES`` into ``out_dir``,
     each step's number and the world's :meth:`~world.world.World.state_digest` before it is played (to find
-    the first step at which two runs differ, on two machines say).
+    the first step at which two runs differ, on two machines say). ``played_by``: who played and where, as
+    the caller knows it (the policies as named, the controllers' settings), kept in ``summary.json``.
     """
     if state_hashes and out_dir is None:
         raise ValueError("state hashes need an output directory")
@@ -180,8 +193,9 @@ def run_match(
     try:
         if match is None:
             match = own_match = Match(config)
-        return _run(config, controllers, seed, out_dir, progress, max_steps, match, observer, policy_seeds,
-                    state_hashes)
+        summary = _run(config, controllers, seed, out_dir, progress, max_steps, match, observer, policy_seeds,
+                       state_hashes, dict(played_by) if played_by is not None else None)
+        return summary
     finally:
         controllers.close()
         if own_match is not None:
@@ -190,7 +204,7 @@ def run_match(
 
 def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path | None, progress: bool,
          max_steps: int | None, match: Match, observer: MatchObserver | None,
-         policy_seeds: Mapping[str, int] | None, state_hashes: bool) -> MatchSummary:
+         policy_seeds: Mapping[str, int] | None, state_hashes: bool, played_by: dict | None) -> MatchSummary:
     missing = [a for a in match.agent_names if a not in controllers.agents]
     if missing:
         raise ValueError(f"no policy for agents {missing}; policies given for {sorted(controllers.agents)}")
@@ -251,7 +265,8 @@ def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path
             events_file.close()
         if hashes_file:
             hashes_file.close()
-        summary = _summarize(match, seed, time.perf_counter() - started, steps, faults, radio, stopped)
+        summary = replace(_summarize(match, seed, time.perf_counter() - started, steps, faults, radio, stopped),
+                          policy_seeds=seeds, played_by=played_by)
         if out_dir is not None:
             summary = _write_outputs(out_dir, config, match, match_log, summary)
     how = "finished" if match.finished else f"stopped after {steps} steps"
@@ -350,6 +365,17 @@ def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRe
         completed=stopped is None,
         stopped_reason=None if stopped is None else _reason(stopped),
     )
+
+
+def _plain(value: object) -> object:
+    """A config value as JSON has it: enums by their value, tuples as lists, the rest as it is."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, enum.Enum):
+        return value.value
+    return value
 
 
 def _reason(error: BaseException) -> str:

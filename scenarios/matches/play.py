@@ -19,6 +19,7 @@ from match.game import Match, MatchConfig
 from match.protocol import Policy
 from match.protocol.ids import AgentId, Side, roster
 from match.runner import MatchSummary, run_match
+from scenarios.matches.provenance import lineup_record
 
 
 ALL_ROBOTS = "all"  # --video all
@@ -119,17 +120,18 @@ def run_lineup_match(
     if filmed and out_dir is None:
         raise LineupError(f"--video {', '.join(videos)}: videos need an output directory")
     lineup.check(agents)  # refused here too
+    played_by = lineup_record({str(a): lineup.policy_name(a) for a in agents}, controllers)
     match = Match(config)
     try:
         policies = lineup.controllers(agents, controllers)
         if not filmed:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
-                             match=match, state_hashes=state_hashes)
+                             match=match, state_hashes=state_hashes, played_by=played_by)
         from scenarios.matches.video import VideoRecorder  # only when a video is asked for (not in tournaments)
 
         assert out_dir is not None
         with VideoRecorder(out_dir, filmed) as recorder:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
-                             match=match, observer=recorder, state_hashes=state_hashes)
+                             match=match, observer=recorder, state_hashes=state_hashes, played_by=played_by)
     finally:
         match.close()
