@@ -144,9 +144,9 @@ class MatchSummary:
                 "away_players": config.away_players,
                 "half_seconds": config.referee.half_seconds,
                 "shootout": config.referee.shootout,
-                "referee": _plain(asdict(config.referee)),
-                "radio": _plain(asdict(config.radio)),
-                "world": {"physics": _plain(asdict(config.world.physics)), "render": _plain(asdict(config.world.render))},
+                "referee": plain_json(asdict(config.referee)),
+                "radio": plain_json(asdict(config.radio)),
+                "world": {"physics": plain_json(asdict(config.world.physics)), "render": plain_json(asdict(config.world.render))},
                 "initial_camera": int(config.initial_camera),
             },
             "policy_seeds": self.policy_seeds,
@@ -367,12 +367,12 @@ def _summarize(match: Match, seed: int, wall: float, steps: int, faults: FaultRe
     )
 
 
-def _plain(value: object) -> object:
+def plain_json(value: object) -> object:
     """A config value as JSON has it: enums by their value, tuples as lists, the rest as it is."""
     if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
+        return {str(k): plain_json(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
+        return [plain_json(v) for v in value]
     if isinstance(value, enum.Enum):
         return value.value
     return value

@@ -24,7 +24,18 @@ from collections.abc import Sequence
 from types import ModuleType
 
 from match.errors import MatchError
-from scenarios.cli import bench, calibrate_colors, localize, match, perception, replay, scenario, tournament, world_demo
+from scenarios.cli import (
+    bench,
+    calibrate_colors,
+    localize,
+    match,
+    perception,
+    replay,
+    rerun,
+    scenario,
+    tournament,
+    world_demo,
+)
 from scenarios.cli.arguments import (
     EXIT_FAILED,
     EXIT_INTERRUPTED,
@@ -42,7 +53,7 @@ from world.errors import WorldError
 __all__ = ["EXIT_FAILED", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_USAGE", "SUBCOMMANDS", "build_parser", "main"]
 
 SUBCOMMANDS: tuple[ModuleType, ...] = (
-    world_demo, bench, match, calibrate_colors, perception, localize, scenario, tournament, replay,
+    world_demo, bench, match, calibrate_colors, perception, localize, scenario, tournament, replay, rerun,
 )
 
 
