@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from agents.team.messages import TeamMessage
-from match.protocol import Action, CameraChoice, Motion, make_action, parse_action
+from match.protocol import Action, CameraChoice, Motion, make_action, parse_action, policy_builder
 
 
 class Spinner:
@@ -221,3 +221,14 @@ class Forges(Spinner):
         else:
             object.__setattr__(action, field, value)
         return action
+
+
+@policy_builder
+def spinner_builder(**options) -> Spinner:
+    """A function that builds policies, marked as one: a policy name may stand for it."""
+    return Spinner(**options)
+
+
+def unmarked_builder() -> Spinner:
+    """The same function unmarked: callable, but not taken as a policy."""
+    return Spinner()

@@ -12,7 +12,8 @@ unknown keys are mistakes too.
 
 Every value is bounded, so that a file that loads also runs: a file is at most
 :data:`MAX_FILE_BYTES` (checked before it is parsed) and nested no deeper than the TOML
-parser can follow; ``samples`` at most :data:`~scenarios.common.limits.MAX_SAMPLES`;
+parser can follow, with keys of at most :data:`~agents.toml_text.MAX_KEY_PARTS` dotted parts (checked
+before it is parsed too); ``samples`` at most :data:`~scenarios.common.limits.MAX_SAMPLES`;
 ``name`` at most :data:`MAX_NAME_CHARS` characters, ``description`` :data:`MAX_DESCRIPTION_CHARS`,
 a policy name :data:`MAX_POLICY_CHARS`; ``half_seconds`` 1 s .. 1 day; ``motion_scale``
 0 .. :data:`MAX_MOTION_SCALE`; ``max_sim_seconds_per_run`` in :data:`SIM_SECONDS_RANGE`,
@@ -32,6 +33,7 @@ from typing import NoReturn
 
 from agents.localization import LOCALIZERS
 from agents.policies import PolicyNameError, known_policies, policy_factory
+from agents.toml_text import MAX_KEY_PARTS, TomlBoundsError, load_toml
 from agents.vision.camera_models import CAMERA_MODELS
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
 from scenarios.common.io import SmallFileError, read_small_file
@@ -151,12 +153,12 @@ def _read_toml(path: Path, given: str) -> dict:
     except UnicodeDecodeError as exc:
         raise ScenarioFileError(path, "<syntax>", "a UTF-8 text file", str(exc)) from exc
     try:
-        return tomllib.loads(text)
+        return load_toml(text)
+    except TomlBoundsError as exc:
+        raise ScenarioFileError(path, "<syntax>", f"arrays and tables nested a few levels deep, keys of at most "
+                                f"{MAX_KEY_PARTS} dotted parts", str(exc)) from None
     except tomllib.TOMLDecodeError as exc:
-        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from exc
-    except RecursionError as exc:
-        raise ScenarioFileError(path, "<syntax>", "arrays and tables nested a few levels deep",
-                                "nesting deeper than the parser can follow") from exc
+        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from None
 
 
 def parse_scenario(data: dict, path: str) -> ScenarioSpec:
