@@ -36,7 +36,7 @@ from agents.policies import PolicyNameError, known_policies, policy_factory
 from agents.toml_text import MAX_KEY_PARTS, TomlBoundsError, load_toml
 from agents.vision.camera_models import CAMERA_MODELS
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
-from scenarios.common.io import SmallFileError, read_small_file
+from scenarios.common.untrusted import SmallFileError, read_small_file
 from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN, MAX_SAMPLES
 from scenarios.localization.spec import MEASURABLE_POLICIES, RobotEntry, ScenarioSpec, ThesisReference
 from world.field import FIELD, Pose2D
