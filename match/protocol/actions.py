@@ -42,8 +42,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from itertools import islice
 from dataclasses import dataclass
+from itertools import islice
 
 import numpy as np
 
@@ -132,7 +132,8 @@ def parse_actions(actions: object, agents: Iterable[str]) -> dict[str, Action]:
 
 def parse_action(agent: str, raw: object) -> Action:
     """Check every field of ``raw`` (an action dict, an :class:`Action`, or None for "stand")
-    and build the Action of plain values (see the module docstring for what is accepted)."""
+    and build the Action of plain values (see the module docstring for what is accepted); an
+    Action whose fields already are such values is returned as itself."""
     if raw is None:
         return STAND
     if type(raw) is Action and _as_built(raw):
