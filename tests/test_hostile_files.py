@@ -145,6 +145,9 @@ REPLAY = [
     ("time_s as text", _events(lambda e: _set_at(e, 3, time_s="1.0")), ["events.jsonl", "line 4", "time_s"]),
     ("time_s of 5,000 digits", _events(_long_time), ["events.jsonl", "line 4", "time_s", "5000 digits"]),
     ("time_s negative", _events(lambda e: _set_at(e, 3, time_s=-1.0)), ["events.jsonl", "line 4", "time_s"]),
+    ("time_s of 399 digits", _events(lambda e: _set_at(e, 3, time_s=10**398)), ["events.jsonl", "line 4", "time_s"]),
+    ("sim_seconds of 399 digits", _summary(lambda s: s.update(sim_seconds=10**398)), ["summary.json", "sim_seconds"]),
+    ("a detail NaN in an event", _events(lambda e: _set_at(e, 2, x=math.nan)), ["events.jsonl", "line 3", "x = NaN"]),
     ("half of 1.7 in an event", _events(lambda e: _set_at(e, 0, half=1.7)), ["events.jsonl", "line 1", "half"]),
     ("a goal tally of 10**30", _events(lambda e: _set_at(e, 0, score={"home": 10**30, "away": 0})),
      ["events.jsonl", "line 1", "score.home"]),
@@ -216,6 +219,9 @@ RESUME = [
     ("home_goals of 5,000 digits", _tournament(json.dumps(_played()).replace('"home_goals": 1',
                                                                              f'"home_goals": {LONG_NUMBER}')),
      ["match_0000.json", "home_goals", "5000 digits"]),
+    ("home_goals of 399 digits", _tournament({**_played(), "home_goals": 10**398}), ["match_0000.json", "home_goals"]),
+    ("a statistic of 399 digits", _tournament({**_played(), "statistics": {"home": {"touches": 10**398}, "away": {}}}),
+     ["match_0000.json", "statistics.home.touches"]),
     ("goals -5", _tournament({**_played(), "away_goals": -5}), ["match_0000.json", "away_goals"]),
     ("0-3 recorded as a home win", _tournament({**_played(), "home_goals": 0, "away_goals": 3}),
      ["match_0000.json", "winner_side", "0-3"]),
@@ -233,6 +239,7 @@ RESUME = [
      ["run_0000.json", "sim_seconds"]),
     ("a sample's position 1e300", _scenario(_sample(true_x=1e300)), ["run_0000.json", "samples[0].true_x"]),
     ("a sample of another run", _scenario(_sample(run=3)), ["run_0000.json", "samples[0].run"]),
+    ("a sample's count of 399 digits", _scenario(_sample(percepts=10**398)), ["run_0000.json", "samples[0].percepts"]),
 ]
 
 

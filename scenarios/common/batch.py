@@ -464,7 +464,8 @@ def check_bounds(data: Mapping, bounds: Mapping[str, tuple[float, float]], where
         value = data.get(key)
         if value is None or (key in nan and isinstance(value, float) and math.isnan(value)):
             continue
-        if not (math.isfinite(value) and low <= value <= high):
+        finite = isinstance(value, int) or math.isfinite(value)  # an int past float's range is finite
+        if not (finite and low <= value <= high):
             raise ValueError(f"{where}{key} = {_short(value)}; expected a finite number from {low:g} to {high:g}")
 
 

@@ -317,6 +317,20 @@ def _event_problem(event: dict) -> str | None:
             for side in ("home", "away"):
                 if side in value and not _is_count(value[side]):
                     return f"{tally}.{side} = {_short(value[side])}; expected a count from 0 to {MAX_SCORE}"
+    return _not_finite(event, "")
+
+
+def _not_finite(value: object, where: str) -> str | None:
+    """The first number of a JSON value that is not finite (the page's JSON has no NaN), as a problem, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"{where} = {_short(value)}; expected a finite number"
+    if isinstance(value, LongNumber):
+        return f"{where} = {_short(value)}; expected a number of at most a few hundred digits"
+    items = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(value, list) else ()
+    for key, item in items:
+        problem = _not_finite(item, f"{where}.{key}" if where else str(key))
+        if problem is not None:
+            return problem
     return None
 
 
@@ -370,8 +384,10 @@ def _summary_problem(summary: dict) -> str | None:
 
 
 def _is_number(value: object) -> bool:
-    """A finite int or float (not a bool)."""
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    """A finite int or float (not a bool); an int past float's range is finite too."""
+    if isinstance(value, bool):
+        return False
+    return isinstance(value, int) or (isinstance(value, float) and math.isfinite(value))
 
 
 def _is_count(value: object) -> bool:

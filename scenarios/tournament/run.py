@@ -233,7 +233,8 @@ def stored_record(tasks: Sequence[MatchTask], index: int, data: dict) -> dict:
             check_fields(team, {key: (float, type(None)) for key in present}, f"statistics.{side}.")
             for key in present:  # NaN stands for a figure without samples
                 value = team[key]
-                if value is not None and not (math.isnan(value) or abs(value) <= MAX_STATISTIC):
+                if value is not None and not (isinstance(value, float) and math.isnan(value)
+                                              or abs(value) <= MAX_STATISTIC):
                     raise ValueError(f"statistics.{side}.{key} = {value!r:.40}; expected a number of at most "
                                      f"{MAX_STATISTIC:g}")
     return data
