@@ -22,7 +22,7 @@ from agents.behavior.scripted import ScriptedPlayer
 from agents.behavior.stand import StandPolicy
 from agents.team.agent import TeamAgent
 from agents.team.params import ParameterError, TeamParams
-from match.protocol import Policy
+from match.protocol import Policy, policy_factory_problem
 
 PolicyFactory = Callable[..., Policy]
 
@@ -72,10 +72,10 @@ def policy_factory(name: str) -> PolicyFactory:
     factory = getattr(module, attribute, None)
     if factory is None or not callable(factory):
         raise PolicyNameError(f"policy {name!r}: module {module_name!r} has no class or function {attribute!r}")
-    for method in ("reset", "act"):
-        if isinstance(factory, type) and not callable(getattr(factory, method, None)):
-            raise PolicyNameError(f"policy {name!r}: {attribute} has no {method}() method; "
-                                  "a policy needs reset(agent_id, seed) and act(observation)")
+    problem = policy_factory_problem(factory)
+    if problem is not None:
+        raise PolicyNameError(f"policy {name!r}: {attribute} {problem}; expected a class with reset(agent_id, seed) "
+                              "and act(observation), or a function marked @match.protocol.policy_builder")
     return factory
 
 

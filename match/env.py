@@ -2,7 +2,8 @@
 
 ``from match import parallel_env``; ``env = parallel_env(home_players=2, away_players=2)``.
 :func:`env` and :func:`raw_env` give the same match as a PettingZoo AEC env (robots act in
-turn, the match steps once all have acted). Agents are ``home_0..home_3`` and ``away_0..away_3``
+turn, the match steps once all have acted; each action is checked at its own agent's turn, so a
+refused one is refused to that agent and leaves the turn where it was). Agents are ``home_0..home_3`` and ``away_0..away_3``
 (player 0 the goalkeeper). Spaces are in :mod:`match.protocol.spaces`; the global
 :meth:`~RobotStadiumEnv.state` is in :mod:`match.env_state`. Rewards are +1/-1 per goal to
 every robot of the scoring / conceding team; all agents terminate when the match is finished
@@ -20,11 +21,13 @@ import cv2
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import AECEnv, ParallelEnv
-from pettingzoo.utils.conversions import parallel_to_aec, parallel_to_aec_wrapper
+from pettingzoo.utils.conversions import parallel_to_aec_wrapper
+from pettingzoo.utils.wrappers import OrderEnforcingWrapper
 
 from match.env_state import global_state, state_space
 from match.errors import EnvClosedError, MatchConfigError, StepRefusedError, UnknownAgentError, shown
 from match.game import Match, MatchConfig
+from match.protocol.actions import Action
 from match.protocol.spaces import action_space, observation_space
 
 log = logging.getLogger(__name__)
@@ -162,6 +165,13 @@ class RobotStadiumEnv(ParallelEnv):
             self.agents = []
         return observations, rewards, terminations, truncations, {a: infos[a] for a in live}
 
+    def check_action(self, agent: str, action: object) -> Action:
+        """``agent``'s action checked as :meth:`step` checks it, without stepping: the checked Action, or the
+        :class:`StepRefusedError` :meth:`step` would raise for it. Nothing changes."""
+        if self._closed:
+            raise StepRefusedError("the env is closed; build a new one")
+        return self.match.check_action(agent, action)
+
     def state(self) -> np.ndarray:
         """The global state now: a float32 vector in :attr:`state_space` (layout in :mod:`match.env_state`).
 
@@ -228,14 +238,31 @@ def parallel_env(**kwargs) -> RobotStadiumEnv:
     return RobotStadiumEnv(**kwargs)
 
 
+class CheckedTurns(parallel_to_aec_wrapper):
+    """PettingZoo's AEC view of the parallel env, each action checked at its own agent's turn.
+
+    PettingZoo's wrapper stores every action unchecked and steps the parallel env at the last
+    agent's turn, so one bad action would be refused at every later turn until ``reset``. Here
+    a refused action raises the :class:`StepRefusedError` (naming the agent, the field, the value
+    and what was expected) at its own agent's turn and is not stored: the turn stays with that
+    agent and nothing of the env changes.
+    """
+
+    def step(self, action: object) -> None:
+        agent = self.agent_selection
+        if not (self.terminations[agent] or self.truncations[agent]):
+            action = self.env.check_action(agent, action)
+        super().step(action)
+
+
 def raw_env(**kwargs) -> AECEnv:
-    """The match as a PettingZoo AEC env, without PettingZoo's order-enforcing wrapper."""
-    return parallel_to_aec_wrapper(RobotStadiumEnv(**kwargs))
+    """The match as a PettingZoo AEC env (:class:`CheckedTurns`), without PettingZoo's order-enforcing wrapper."""
+    return CheckedTurns(RobotStadiumEnv(**kwargs))
 
 
 def env(**kwargs) -> AECEnv:
     """The match as a PettingZoo AEC env (:func:`raw_env` in PettingZoo's order-enforcing wrapper)."""
-    return parallel_to_aec(RobotStadiumEnv(**kwargs))
+    return OrderEnforcingWrapper(raw_env(**kwargs))
 
 
 RESET_OPTIONS = ("random_start",)

@@ -20,11 +20,11 @@ from dataclasses import field as default
 
 import numpy as np
 
-from match.errors import InvalidActionError, StepRefusedError
+from match.errors import InvalidActionError, StepRefusedError, UnknownAgentError
 from match.events import MatchEvent
 from match.free_play import FreePlay, free_play_control
 from match.observations import build_observation, game_observation, radio_observation
-from match.protocol.actions import Action, parse_actions
+from match.protocol.actions import Action, parse_action, parse_actions
 from match.protocol.game_control import GameControlView, GameState
 from match.protocol.ids import AgentId, Side, roster
 from match.protocol.spaces import CameraChoice
@@ -165,12 +165,25 @@ class Match:
         without one stand. Raises a :class:`StepRefusedError` before anything changes."""
         parsed = parse_actions(actions, self.agent_names)
         for name, action in parsed.items():
-            if action.motion is Motion.WALK:
-                try:
-                    self.config.world.walk_limits.check(*action.walk)
-                except InvalidCommandError as error:
-                    raise InvalidActionError(name, "walk", action.walk, str(error)) from None
+            self._check_walk(name, action)
         return {self._by_name[name]: action for name, action in parsed.items()}
+
+    def check_action(self, agent: str, action: object) -> Action:
+        """One agent's action parsed and checked as :meth:`check_actions` checks it in a step (an agent
+        not in the match is an :class:`UnknownAgentError`); nothing changes."""
+        if not isinstance(agent, str) or str.__str__(agent) not in self._by_name:
+            raise UnknownAgentError(agent, self.agent_names)
+        name = str.__str__(agent)
+        checked = parse_action(name, action)
+        self._check_walk(name, checked)
+        return checked
+
+    def _check_walk(self, name: str, action: Action) -> None:
+        if action.motion is Motion.WALK:
+            try:
+                self.config.world.walk_limits.check(*action.walk)
+            except InvalidCommandError as error:
+                raise InvalidActionError(name, "walk", action.walk, str(error)) from None
 
     def step(self, actions: Mapping[str, object], observed: ObservedCallback | None = None) -> StepResult:
         """One control step; a :class:`StepRefusedError` (bad actions, not started, finished) changes nothing.

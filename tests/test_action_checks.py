@@ -3,14 +3,18 @@
 Action of plain values.
 
 Every generated value carries what it must become: the checked value, or ``BAD`` when it must
-be refused. Thousands of actions go through :func:`parse_action` and ``Match.check_actions``
-(no physics); a few dozen sequences of steps go through two real environments side by side,
-one of them also fed the refused steps, which must stay identical to the other.
+be refused. Actions the check built and a forger then changed (``object.__setattr__``, which a
+frozen dataclass does not stop) are among them. Thousands of actions go through
+:func:`parse_action` and ``Match.check_actions`` (no physics); a few dozen sequences of steps go
+through two real environments side by side, one of them also fed the refused steps (as a whole
+step, or turn by turn through the AEC env), which must stay identical to the other. A refusal
+costs what its message costs, never the size of the value refused.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from collections import OrderedDict
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
@@ -346,12 +350,37 @@ def _expected_action(expected: dict) -> Action | str:
 
 # ---- whole actions --------------------------------------------------------------------------
 
+FORGED_FROM = (
+    make_action(Motion.WALK, walk=(0.1, 0.0, 0.2), head=(0.1, 0.2), camera=CameraChoice.TOP, radio=b"hi"),
+    make_action(Motion.STAND),
+    make_action(Motion.KICK_RIGHT, head=(-0.3, 0.0), camera=CameraChoice.OFF),
+)
+
+
+@st.composite
+def forged_actions(draw) -> tuple[Action, object]:
+    """(an Action the check built, then one field set or deleted with ``object.__setattr__``, the Action it
+    must give or BAD): the check reads every field again."""
+    built = parse_action("home_0", draw(st.sampled_from(FORGED_FROM)))
+    expected = {name: getattr(built, name) for name in DEFAULTS}
+    name = draw(st.sampled_from(sorted(FIELDS)))
+    if draw(st.integers(0, 9)) == 0:
+        object.__delattr__(built, name)  # the class default shows through; motion has none
+        expected[name] = BAD if name == "motion" else DEFAULTS[name]
+    else:
+        value, expected[name] = draw(FIELDS[name])
+        object.__setattr__(built, name, value)
+    return built, _expected_action(expected)
+
+
 @st.composite
 def agent_actions(draw) -> tuple[object, object]:
     """(an agent's action, the Action it must give or BAD)."""
-    kind = draw(st.sampled_from(["dict"] * 5 + ["action"] * 4 + ["none", "garbage", "broken"]))
+    kind = draw(st.sampled_from(["dict"] * 5 + ["action"] * 4 + ["forged"] * 3 + ["none", "garbage", "broken"]))
     if kind == "none":
         return None, STAND
+    if kind == "forged":
+        return draw(forged_actions())
     if kind == "garbage":
         return draw(_one_of(GARBAGE)), BAD
     if kind == "broken":
@@ -596,13 +625,190 @@ def test_a_step_without_a_dict_of_actions_is_refused(twins) -> None:
         assert type(raised.value) is StepRefusedError and raised.value.agent is None
 
 
-def test_an_action_the_check_built_passes_again_as_itself_and_only_that_one() -> None:
+def test_an_action_of_plain_checked_values_passes_again_as_itself_and_only_such_a_one() -> None:
     checked = parse_action("home_0", {"motion": "walk", "walk": (0.0, 0.0, 0.2), "head": (0.1, 0.2)})
-    assert parse_action("away_1", checked) is checked  # checked once, e.g. in a controller process's answer
-    twin = Action(checked.motion, walk=(False, 0.0, 0.2), head=checked.head)  # equal to it, but not built by it
+    assert parse_action("away_1", checked) is checked  # checked again, e.g. in a controller process's answer
+    twin = Action(checked.motion, walk=(False, 0.0, 0.2), head=checked.head)  # equal to it, but not plain values
     assert twin == checked
     with pytest.raises(InvalidActionError, match="walk"):
         parse_action("home_0", twin)
     forged = Action(Motion.WALK, walk=(float("nan"), 0.0, 0.0))
     with pytest.raises(InvalidActionError, match="walk"):
         parse_action("home_0", forged)
+    object.__setattr__(checked, "camera", 7)  # the reported forgery: frozen does not stop object.__setattr__
+    with pytest.raises(InvalidActionError, match="'home_0': action field 'camera' = 7 is invalid"):
+        parse_action("home_0", checked)
+    object.__setattr__(checked, "camera", 1)  # a value the check accepts: a new Action of plain values
+    assert parse_action("home_0", checked) == Action(Motion.WALK, (0.0, 0.0, 0.2), (0.1, 0.2), CameraChoice.TOP)
+
+
+@pytest.mark.render
+def test_a_step_with_a_forged_action_moves_no_head(twins) -> None:
+    """The reported half-applied step: a forged 5,000-byte packet of home_1 and a head command of home_0."""
+    env, twin = twins
+    env.reset(seed=2)
+    twin.reset(seed=2)
+    forged = parse_action("home_1", make_action(Motion.STAND))
+    object.__setattr__(forged, "radio", b"x" * 5000)
+    with pytest.raises(InvalidActionError, match="'home_1': action field 'radio' = <bytes of length 5000") as raised:
+        env.step({"home_0": make_action(Motion.STAND, head=(1.5, 0.3)), "home_1": forged})
+    assert raised.value.agent == "home_1" and raised.value.field == "radio"
+    assert _state(env) == _state(twin)
+    _assert_same_step(env.step(FOLLOW), twin.step(FOLLOW))
+
+
+def test_a_policy_returning_forged_actions_costs_only_its_robot_in_process(tmp_path) -> None:
+    import json
+
+    from scenarios.matches.play import Lineup, run_lineup_match
+
+    lineup = Lineup("stand", "stand", {"home_0": "tests.user_policies:Forges"})
+    run_lineup_match(tmp_path, lineup, home=2, away=1, half_seconds=60.0, seed=1, progress=False, max_steps=12,
+                     referee={"initial_seconds": 0.2, "ready_seconds": 0.4, "set_seconds": 0.2}, controllers=None)
+    summary = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
+    assert summary["completed"] and summary["steps"] == 12
+    assert summary["faults"]["by_agent"] == {"home_0": 12}  # each forgery refused: the robot stood
+    errors = [d["error"] for d in summary["faults"]["details"]]
+    for field in ("camera", "radio", "walk", "motion", "head"):
+        assert any(f"action field '{field}'" in error for error in errors), field
+    assert all(error.startswith(("InvalidActionError", "RadioPacketError")) for error in errors)
+
+
+# ---- the AEC env: each action checked at its own agent's turn ------------------------------------
+
+
+def _aec(parallel: RobotStadiumEnv):
+    """The env's AEC view as ``match.env.env`` builds it, over an env of the fixture."""
+    from pettingzoo.utils.wrappers import OrderEnforcingWrapper
+
+    from match.env import CheckedTurns
+
+    return OrderEnforcingWrapper(CheckedTurns(parallel))
+
+
+@pytest.mark.render
+def test_the_aec_env_refuses_the_reported_action_to_its_agent_and_goes_on(twins) -> None:
+    env, twin = twins
+    aec = _aec(env)
+    aec.reset(seed=3)
+    twin.reset(seed=3)
+    assert aec.agent_selection == "home_0"
+    with pytest.raises(InvalidActionError) as raised:
+        aec.step({"motion": 17, "walk": [math.nan, 0, 0]})
+    message = str(raised.value)
+    assert raised.value.agent == "home_0" and "'home_0'" in message and "expected" in message
+    assert raised.value.field in ("motion", "walk") and f"'{raised.value.field}'" in message
+    assert aec.agent_selection == "home_0" and _state(env) == _state(twin)
+    for agent in AGENTS:  # the turn goes on: every agent acts, the match steps once
+        assert aec.agent_selection == agent
+        aec.step(FOLLOW[agent])
+    twin.step(FOLLOW)
+    assert _state(env) == _state(twin)
+
+
+@pytest.mark.render
+@settings(FUZZ, max_examples=12)
+@given(turns=st.lists(agent_actions(), min_size=3, max_size=8), seed=st.integers(0, 3))
+def test_a_refused_turn_is_refused_to_its_agent_and_changes_nothing(twins, turns, seed) -> None:
+    """The AEC env fed every turn stays the twin parallel env fed only the accepted actions, step by step."""
+    env, twin = twins
+    aec = _aec(env)
+    aec.reset(seed=seed)
+    twin.reset(seed=seed)
+    taken: dict[str, object] = {}
+    for raw, expected in turns:
+        agent = aec.agent_selection
+        try:
+            aec.step(raw)
+        except StepRefusedError as error:
+            event("a turn refused")
+            assert expected is BAD, f"refused a valid action {shown(raw)}: {error}"
+            _assert_refusal(error, Refusal("action", (agent,)), raw)
+            assert aec.agent_selection == agent
+            assert _state(env) == _state(twin)
+            continue
+        event("a turn accepted")
+        assert expected is not BAD, f"accepted an invalid action {shown(raw)}"
+        taken[agent] = raw
+        if agent == AGENTS[-1]:  # the last turn stepped the match
+            observations = twin.step(taken)[0]
+            taken = {}
+            for name in AGENTS:
+                _assert_same_step(aec.observe(name), observations[name])
+        assert _state(env) == _state(twin)
+
+
+# ---- a refusal costs its message, not the payload --------------------------------------------------
+
+
+REFUSAL_S = 0.05  # any payload: CPU time of the refusing thread, whatever else the machine runs
+HUGE_REFUSAL_S = 0.5  # the 200 MiB one: wall time, on a machine shared with other jobs
+
+
+def _payload(kind: str, size: int) -> tuple[str, object]:
+    """(the agent whose action carries it, a step's actions with a payload of about ``size`` bytes or items)."""
+    blob = b"x" * size
+    if kind == "forged radio":
+        action = parse_action("home_1", make_action(Motion.STAND))
+        object.__setattr__(action, "radio", blob)
+        return "home_1", {"home_1": action}
+    if kind == "forged walk":
+        action = parse_action("home_1", make_action(Motion.STAND))
+        object.__setattr__(action, "walk", (0.0,) * size)
+        return "home_1", {"home_1": action}
+    values = {
+        "radio bytes": {"radio": blob},
+        "radio bytearray": {"radio": bytearray(blob)},
+        "packet data": {"radio": {"data": np.frombuffer(blob, np.uint8), "length": 3}},
+        "packet keys": {"radio": {**dict.fromkeys(range(size // 64)), "data": np.zeros(128, np.uint8), "length": 3}},
+        "walk list": {"walk": [0.0] * (size // 8)},
+        "head array": {"head": np.zeros(size // 8)},
+        "motion text": {"motion": "w" * size},
+        "camera text": {"camera": Text("t" * size)},
+        "field keys": dict.fromkeys(map(str, range(size // 64))),
+    }
+    if kind == "agent keys":
+        return "", {"home_0": None, **dict.fromkeys(map(str, range(size // 64)))}
+    return "home_1", {"home_0": make_action(Motion.STAND, head=(1.0, 0.2)), "home_1": values[kind]}
+
+
+PAYLOADS = ["forged radio", "forged walk", "radio bytes", "radio bytearray", "packet data", "packet keys", "walk list",
+            "head array", "motion text", "camera text", "field keys", "agent keys"]
+
+
+def _refusal_seconds(check, actions: object, clock=time.perf_counter) -> tuple[float, StepRefusedError]:
+    started = clock()
+    try:
+        check(actions)
+    except StepRefusedError as error:
+        elapsed = clock() - started
+        return elapsed, error
+    raise AssertionError("the payload was accepted")
+
+
+@settings(FUZZ, max_examples=60)
+@given(kind=st.sampled_from(PAYLOADS), size=st.integers(10, 23).map(lambda k: 2**k))
+def test_a_refusal_costs_its_message_not_the_payload(twins, kind, size) -> None:
+    agent, actions = _payload(kind, size)
+    seconds, error = _refusal_seconds(twins[0].match.check_actions, actions, time.thread_time)
+    assert seconds < REFUSAL_S, (kind, size, seconds)
+    message = str(error)
+    assert "\n" not in message and len(message) < 1200, message
+    if agent:
+        assert error.agent == agent and isinstance(error, InvalidActionError)
+    else:
+        assert isinstance(error, UnknownAgentError)
+
+
+@pytest.mark.render
+def test_a_step_with_a_200_mib_packet_is_refused_at_once_and_changes_nothing(twins) -> None:
+    env, twin = twins
+    env.reset(seed=1)
+    twin.reset(seed=1)
+    for kind in ("radio bytes", "forged radio"):
+        _, actions = _payload(kind, 200 << 20)
+        seconds, error = _refusal_seconds(env.step, actions)
+        assert seconds < HUGE_REFUSAL_S, (kind, seconds)
+        assert error.agent == "home_1" and len(str(error)) < 400
+        assert _state(env) == _state(twin)
+    _assert_same_step(env.step(FOLLOW), twin.step(FOLLOW))

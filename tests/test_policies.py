@@ -39,6 +39,11 @@ def test_a_user_class_is_found_by_its_import_path() -> None:
         ("tests.user_policies:NoReset", "has no reset() method"),
         ("tests.user_policies:", "unknown policy"),
         ("os:system; rm", "unknown policy"),
+        ("os:system", "system is a builtin_function_or_method, not a policy class; expected a class with reset("),
+        ("os:getcwd", "getcwd is a builtin_function_or_method, not a policy class"),
+        ("builtins:object", "object has no reset() method"),
+        ("functools:partial", "partial has no reset() method"),
+        ("tests.user_policies:unmarked_builder", "unmarked_builder is a function, not a policy class"),
     ],
 )
 def test_bad_names_are_refused_naming_the_known_ones(name: str, words: str) -> None:
@@ -48,6 +53,13 @@ def test_bad_names_are_refused_naming_the_known_ones(name: str, words: str) -> N
     if "unknown" in words:
         for known in BUILTIN_POLICIES:
             assert known in str(error.value)
+
+
+def test_a_marked_builder_stands_for_a_policy_as_a_class_does() -> None:
+    from tests.user_policies import spinner_builder
+
+    assert policy_factory("tests.user_policies:spinner_builder") is spinner_builder
+    assert isinstance(make_policy("tests.user_policies:spinner_builder"), Spinner)
 
 
 def test_bad_options_are_refused_with_the_name() -> None:

@@ -1,4 +1,4 @@
-"""The one bounded reader of small input files (scenarios.common.io.read_small_file)."""
+"""The one bounded reader of small input files (scenarios.common.untrusted.read_small_file)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from scenarios.common.io import SmallFileError, read_small_file
+from scenarios.common.untrusted import SmallFileError, read_small_file
 
 
 def test_a_small_regular_file_is_read_whole(tmp_path: Path) -> None:
@@ -35,3 +35,14 @@ def test_a_name_too_long_is_the_systems_error(tmp_path: Path) -> None:
     with pytest.raises(SmallFileError, match="name too long") as caught:
         read_small_file(tmp_path / ("n" * 300), 10)
     assert not caught.value.missing and not caught.value.too_big
+
+
+@pytest.mark.parametrize("kind", ["fifo", "zero", "null"])
+def test_a_pipe_or_a_device_is_refused_before_it_is_opened(tmp_path: Path, kind: str) -> None:
+    path = tmp_path / "f"
+    if kind == "fifo":
+        os.mkfifo(path)  # opening it to read would wait for a writer
+    else:
+        path.symlink_to(f"/dev/{kind}")  # /dev/zero never ends
+    with pytest.raises(SmallFileError, match="^not an existing regular file$"):
+        read_small_file(path, 10)

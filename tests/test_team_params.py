@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import time
 from pathlib import Path
 
 import pytest
@@ -64,6 +66,28 @@ def test_a_bad_value_is_refused_naming_file_key_value_and_what_was_expected(
 def test_a_missing_file_is_refused(tmp_path: Path) -> None:
     with pytest.raises(ParameterError, match="readable TOML file"):
         TeamParams.load(tmp_path / "nowhere.toml")
+
+
+@pytest.mark.parametrize("kind, words", [
+    ("pipe", "not a regular file"), ("zero", "not a regular file"), ("big", "more than 1000000 bytes"),
+    ("dotted key", "a dotted key of more than 64 parts"), ("deep", "nested deeper than the parser can follow"),
+])
+def test_a_hostile_parameter_file_is_refused_before_it_is_parsed(tmp_path: Path, kind: str, words: str) -> None:
+    path = tmp_path / "p.toml"
+    if kind == "pipe":
+        os.mkfifo(path)
+    elif kind == "zero":
+        path.symlink_to("/dev/zero")
+    elif kind == "big":
+        path.write_text("# " + "x" * 1_000_000 + "\n")
+    elif kind == "dotted key":
+        path.write_text("kick" + ".a" * 20_000 + " = 1\n")  # the parser's time grows with the square of the parts
+    else:
+        path.write_text("x = " + "[" * 100_000 + "]" * 100_000 + "\n")
+    started = time.perf_counter()
+    with pytest.raises(PolicyNameError, match=words):
+        policy_factory(f"team:{path}")
+    assert time.perf_counter() - started < 1.0
 
 
 def test_a_policy_name_plays_a_team_agent_with_a_parameter_file(tmp_path: Path) -> None:

@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from agents.team.messages import TeamMessage
-from match.protocol import Action, CameraChoice, Motion, make_action
+from match.protocol import Action, CameraChoice, Motion, make_action, parse_action, policy_builder
 
 
 class Spinner:
@@ -299,3 +299,32 @@ class ClosesOutput(Spinner):
         sys.stderr.close()
         return super().act(observation)
 
+
+class Forges(Spinner):
+    """Returns Actions the check built, then changed with ``object.__setattr__`` (frozen is no protection):
+    in turn a camera 7, a 5,000-byte packet, a NaN walk, a motion index past the last, a head past its limits,
+    and a deleted motion; every act is invalid."""
+
+    FORGERIES = (("camera", 7), ("radio", b"x" * 5000), ("walk", (float("nan"), 0.0, 0.0)), ("motion", 99),
+                 ("head", (9.0, 0.0)), ("motion", None))
+
+    def act(self, observation: dict) -> Action:
+        field, value = self.FORGERIES[self.steps % len(self.FORGERIES)]
+        self.steps += 1
+        action = parse_action(self.agent_id, make_action(Motion.STAND, head=(0.2, 0.1)))
+        if value is None:
+            object.__delattr__(action, field)
+        else:
+            object.__setattr__(action, field, value)
+        return action
+
+
+@policy_builder
+def spinner_builder(**options) -> Spinner:
+    """A function that builds policies, marked as one: a policy name may stand for it."""
+    return Spinner(**options)
+
+
+def unmarked_builder() -> Spinner:
+    """The same function unmarked: callable, but not taken as a policy."""
+    return Spinner()

@@ -21,6 +21,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from agents.toml_text import load_toml, read_toml_file
+
 DEFAULT_FILE = "params.toml"
 
 
@@ -214,7 +216,7 @@ class TeamParams:
         cannot be read or holds a key or value that is not one of the agent's."""
         shown = str(path)
         try:
-            data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+            data = read_toml_file(path)
         except OSError as error:
             raise ParameterError(shown, "(file)", _MISSING, f"a readable TOML file ({error.strerror})") from None
         except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
@@ -281,4 +283,4 @@ def _checked(value: Any, f: dataclasses.Field, path: str, key: str) -> float | i
 @functools.lru_cache(maxsize=1)
 def _default() -> TeamParams:
     text = resources.files(__package__).joinpath(DEFAULT_FILE).read_text(encoding="utf-8")
-    return from_tables(tomllib.loads(text), f"agents/team/{DEFAULT_FILE}")
+    return from_tables(load_toml(text), f"agents/team/{DEFAULT_FILE}")

@@ -16,7 +16,16 @@ from match.protocol.kickoff import (
     penalty_pose,
 )
 from match.protocol.packets import INBOX_CAPACITY, MAX_PACKET_BYTES, packet_bytes, packet_of, packet_space
-from match.protocol.policy import AgentReport, AgentReporter, Policy, PoseReporter, PoseTuple, Thinker
+from match.protocol.policy import (
+    AgentReport,
+    AgentReporter,
+    Policy,
+    PoseReporter,
+    PoseTuple,
+    Thinker,
+    policy_builder,
+    policy_factory_problem,
+)
 from match.protocol.spaces import (
     MAX_SECONDS,
     MOTIONS,
@@ -84,6 +93,8 @@ __all__ = [
     "observation_space",
     "parse_action",
     "parse_actions",
+    "policy_builder",
+    "policy_factory_problem",
     "roster",
     "throw_in_spot",
 ]

@@ -5,8 +5,14 @@ action) and :func:`parse_action` (one agent's action) turn whatever an agent han
 action dict, an :class:`Action`, or None for "stand") into a frozen :class:`Action` of plain
 values, or raise a :class:`~match.errors.StepRefusedError` naming the agent, the field, the
 value and what was expected. An :class:`Action` is checked like a dict (its constructor
-checks nothing). :meth:`match.game.Match.check_actions` adds the world's walk limits, and
-:meth:`match.game.Match.step` applies nothing until every action has passed.
+checks nothing, and ``object.__setattr__`` can change a frozen one): every check of an Action
+reads its fields again, one by one; one whose fields are exactly what :func:`parse_action`
+builds passes as itself at the cost of a few type and bound comparisons, any other is checked
+like a dict. :meth:`match.game.Match.check_actions` adds the world's walk limits, and
+:meth:`match.game.Match.step` applies nothing until every action has passed. A refusal costs
+what its message does, never the size of the value refused: containers are read only as far
+as the check needs (an action dict past its five fields, a packet past 128 bytes are refused
+unread) and the message shows a short prefix (:func:`~match.errors.shown`).
 
 What is accepted (anything else is refused, not converted):
 
@@ -35,9 +41,9 @@ What is accepted (anything else is refused, not converted):
 from __future__ import annotations
 
 import math
-import weakref
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from itertools import islice
 
 import numpy as np
 
@@ -52,6 +58,10 @@ _BOUND_SLACK = 1e-6
 _REAL_KINDS = "iuf"  # numpy dtype kinds taken as numbers: signed, unsigned, floating
 _MOTION_NAMES = frozenset(m.value for m in Motion)
 _CAMERA_NAMES = frozenset(c.name.lower() for c in CameraChoice)
+_LONGEST_NAME = max(map(len, _MOTION_NAMES | _CAMERA_NAMES))
+_LONGEST_KEY = 64  # longer than any agent id or field name
+_WALK_BOX = tuple(zip(map(float, WALK_LOW), map(float, WALK_HIGH)))  # (low, high) per component, plain floats
+_HEAD_BOX = tuple(zip(map(float, HEAD_LOW), map(float, HEAD_HIGH)))
 
 
 class _Missing:
@@ -77,8 +87,6 @@ class Action:
 
 
 STAND = Action(Motion.STAND)
-_BUILT: weakref.WeakValueDictionary[int, Action] = weakref.WeakValueDictionary()
-"""The live Actions :func:`parse_action` built (by id): already checked, they pass again at once."""
 
 
 def make_action(
@@ -112,7 +120,7 @@ def parse_actions(actions: object, agents: Iterable[str]) -> dict[str, Action]:
     if not isinstance(actions, Mapping):
         raise StepRefusedError(f"actions = {shown(actions)} is invalid; expected a dict of agent id -> action")
     given: dict[str, object] = {}
-    for key, raw in _items(actions, None, "actions", "a dict of agent id -> action"):
+    for key, raw in _items(actions, len(agents), None, "actions", "a dict of agent id -> action"):
         name = _text(key)
         if name not in agents:
             raise UnknownAgentError(key, agents)
@@ -124,10 +132,11 @@ def parse_actions(actions: object, agents: Iterable[str]) -> dict[str, Action]:
 
 def parse_action(agent: str, raw: object) -> Action:
     """Check every field of ``raw`` (an action dict, an :class:`Action`, or None for "stand")
-    and build the Action of plain values (see the module docstring for what is accepted)."""
+    and build the Action of plain values (see the module docstring for what is accepted); an
+    Action whose fields already are such values is returned as itself."""
     if raw is None:
         return STAND
-    if _BUILT.get(id(raw)) is raw:  # one of ours, checked when built (and frozen)
+    if type(raw) is Action and _as_built(raw):
         return raw
     if isinstance(raw, Action):
         fields = _action_fields(agent, raw)
@@ -147,14 +156,36 @@ def parse_action(agent: str, raw: object) -> Action:
     if fields.get("camera") is not None:
         camera = _camera(agent, fields["camera"])
     radio = _packet(agent, fields.get("radio"))
-    action = Action(motion=motion, walk=walk, head=head, camera=camera, radio=radio)
-    _BUILT[id(action)] = action
-    return action
+    return Action(motion=motion, walk=walk, head=head, camera=camera, radio=radio)
+
+
+def _as_built(action: Action) -> bool:
+    """Whether the fields of an Action (read from the instance, as a forger sets them) are of the exact
+    types and within the bounds :func:`parse_action` gives them: a check of plain types, no conversion."""
+    try:
+        fields = object.__getattribute__(action, "__dict__")
+        motion, walk, head = fields["motion"], fields["walk"], fields["head"]
+        camera, radio = fields["camera"], fields["radio"]
+    except (AttributeError, KeyError, TypeError):  # a field deleted, or no instance dict at all
+        return False
+    return (type(motion) is Motion and _in_box(walk, _WALK_BOX) and (head is None or _in_box(head, _HEAD_BOX))
+            and (camera is None or type(camera) is CameraChoice)
+            and type(radio) is bytes and len(radio) <= MAX_PACKET_BYTES)
+
+
+def _in_box(values: object, box: tuple[tuple[float, float], ...]) -> bool:
+    """A plain tuple of plain floats, one per (low, high) of ``box`` and within it (NaN is not)."""
+    if type(values) is not tuple or len(values) != len(box):
+        return False
+    for v, (lo, hi) in zip(values, box):
+        if type(v) is not float or not lo <= v <= hi:
+            return False
+    return True
 
 
 def _dict_fields(agent: str, raw: Mapping) -> dict[str, object]:
     fields: dict[str, object] = {}
-    for key, value in _items(raw, agent, "action", f"a dict with keys among {list(ACTION_KEYS)}"):
+    for key, value in _items(raw, len(ACTION_KEYS), agent, "action", f"a dict with keys among {list(ACTION_KEYS)}"):
         name = _text(key)
         if name not in ACTION_KEYS:
             field = shown(key) if name is None else name
@@ -179,10 +210,13 @@ def _action_fields(agent: str, raw: Action) -> dict[str, object]:
     return fields
 
 
-def _items(mapping: Mapping, agent: str | None, what: str, expected: str) -> list[tuple[object, object]]:
-    """The items of a dict read once; a mapping whose items cannot be read is refused."""
+def _items(mapping: Mapping, most: int, agent: str | None, what: str, expected: str) -> list[tuple[object, object]]:
+    """The first ``most + 1`` items of a mapping, read once (a dict's own storage, whatever a subclass
+    overrides): one more than a valid mapping holds is enough to refuse it, however big it is. A mapping
+    whose items cannot be read is refused."""
     try:
-        return list(dict(mapping).items())
+        items = dict.items(mapping) if isinstance(mapping, dict) else mapping.items()
+        return list(islice(items, most + 1))
     except Exception as error:  # a user's Mapping may raise anything while read
         message = f"{what} = {shown(mapping)} cannot be read ({type(error).__name__}); expected {expected}"
         if agent is not None:
@@ -191,12 +225,18 @@ def _items(mapping: Mapping, agent: str | None, what: str, expected: str) -> lis
 
 
 def _text(key: object) -> str | None:
-    """A key as a plain str (str subclasses compared by their text), None if it is not text."""
-    return str.__str__(key) if isinstance(key, str) else None
+    """A key as a plain str (str subclasses compared by their text), None if it is not text or longer than
+    any key (an agent id or a field name), unread."""
+    if not isinstance(key, str) or str.__len__(key) > _LONGEST_KEY:
+        return None
+    return str.__str__(key)
 
 
 def _name(text: str) -> str | None:
-    """An ASCII name in lower case (case folding outside ASCII may turn other letters into names)."""
+    """An ASCII name in lower case (case folding outside ASCII may turn other letters into names); None for
+    text longer than any name, unread."""
+    if str.__len__(text) > _LONGEST_NAME:
+        return None
     plain = str.__str__(text)
     return plain.lower() if plain.isascii() else None
 
@@ -265,8 +305,11 @@ def _numbers(value: object, size: int) -> list[float] | None:
             return value.astype(np.float64).tolist()
     if not isinstance(value, (list, tuple)):
         return None
+    base = list if isinstance(value, list) else tuple
     try:
-        items = list(value)
+        if base.__len__(value) != size:  # its stored length: a long one is refused unread
+            return None
+        items = list(islice(value, size + 1))  # read once, as far as it needs (a subclass's iterator may not end)
         if len(items) != size or not all(_is_real_scalar(v) for v in items):
             return None
         return [_as_float(v) for v in items]
@@ -317,7 +360,7 @@ def _packet(agent: str, value: object) -> bytes:
 def _packet_dict(agent: str, value: Mapping, expected: str) -> bytes:
     """The bytes of a packet in the layout of :func:`~match.protocol.packets.packet_space`."""
     fields: dict[str, object] = {}
-    for key, item in _items(value, agent, "radio", expected):
+    for key, item in _items(value, len(PACKET_KEYS), agent, "radio", expected):
         name = _text(key)
         if name not in PACKET_KEYS or name in fields:
             raise RadioPacketError(agent, "radio", value, f"{expected}; got the key {shown(key)}")

@@ -14,16 +14,22 @@ play: the log records nothing for that robot that step (:class:`~match.errors.In
 
 An optional :class:`Thinker` moves work out of the step: a controller process calls its
 ``think`` after the step's actions went out, while the simulator plays the next step.
+
+What a name such as ``package.module:Name`` may stand for is a policy class (its instances
+have ``reset`` and ``act``), a ``functools.partial`` of one, or a function marked with
+:func:`policy_builder`; :func:`policy_factory_problem` says why anything else is not (a
+function such as ``os.system`` is callable, but calling it is no policy).
 """
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import operator
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, Protocol, TypeVar, runtime_checkable
 
 from match.errors import InvalidReportError
 from world.field import FIELD
@@ -44,6 +50,34 @@ class Policy(Protocol):
 
     def act(self, observation: Mapping[str, Any]) -> Any:
         """The action for this control step (40 ms), from this step's observation only."""
+
+
+POLICY_METHODS = ("reset", "act")
+_BUILDER_MARK = "__robotstadium_policy_builder__"
+Builder = TypeVar("Builder")
+
+
+def policy_builder(factory: Builder) -> Builder:
+    """Mark a function that builds policies (``def striker(**options) -> Striker``), so that a policy name
+    may stand for it as for a class; what it builds is checked when it is called."""
+    setattr(factory, _BUILDER_MARK, True)
+    return factory
+
+
+def policy_factory_problem(factory: object) -> str | None:
+    """Why ``factory`` cannot stand for a policy (one phrase), None when it can: a class whose instances
+    have a callable ``reset`` and ``act``, a ``functools.partial`` of one, or a function marked with
+    :func:`policy_builder`."""
+    while isinstance(factory, functools.partial):
+        factory = factory.func
+    if isinstance(factory, type):
+        for method in POLICY_METHODS:
+            if not callable(getattr(factory, method, None)):
+                return f"has no {method}() method"
+        return None
+    if callable(factory) and getattr(factory, _BUILDER_MARK, False) is True:
+        return None
+    return f"is a {type(factory).__name__}, not a policy class"
 
 
 @runtime_checkable

@@ -16,7 +16,9 @@ or Ray, every result kept as it arrives, resumable.
   written atomically, a file that cannot be read back (truncated, not JSON, not an object,
   a key missing or of another type, another task's record under this task's name) was
   damaged outside the batch: a resumed batch refuses it, naming the file, before anything
-  is written, rather than overwrite it; :func:`check_fields` checks a record's keys.
+  is written, rather than overwrite it. The files are read as untrusted
+  (:mod:`scenarios.common.untrusted`: regular files of a bounded size, JSON of a bounded
+  depth); :func:`check_fields` checks a record's keys and :func:`check_bounds` its numbers.
 
 A Ctrl-C (``KeyboardInterrupt``; under the command line a SIGTERM too) stops the batch: tasks
 not finished are cancelled, the worker processes are stopped (:mod:`scenarios.common.termination`)
@@ -32,6 +34,7 @@ import dataclasses
 import importlib.util
 import json
 import logging
+import math
 import multiprocessing
 import os
 import queue
@@ -42,6 +45,7 @@ from pathlib import Path
 from typing import Any
 
 from scenarios.common.io import write_text, write_text_atomic
+from scenarios.common.untrusted import LongNumber, SmallFileError, load_json, read_small_file
 from scenarios.common.termination import (
     end_interrupted,
     parent_alive,
@@ -53,6 +57,8 @@ log = logging.getLogger(__name__)
 
 BACKENDS = ("local", "ray")
 RETRIES = 1  # a task whose worker process died runs once more
+MAX_MARKER_BYTES = 1 << 20  # the settings of a batch
+MAX_RECORD_BYTES = 256 << 20  # a task's record: a scenario run of 100,000 samples of 4 methods fits
 _POLL_S = 0.2
 
 Work = Callable[[Any, Callable[..., None] | None], Any]
@@ -358,22 +364,25 @@ class ResultStore:
     ``read(index, data)``: the caller's value of a stored task, raising ``ValueError`` for
     one it cannot use (the store refuses the file, naming it). A resumed store reads and
     checks every file when it is made, before it writes anything; ``write=False`` only reads
-    and checks (a batch checks all its directories before it runs any).
+    and checks (a batch checks all its directories before it runs any). ``max_bytes``: the
+    largest task file read.
     """
 
     def __init__(self, out_dir: Path, *, fingerprint: str, settings: Mapping[str, object], resume: bool,
                  marker: str, subdir: str = "runs", prefix: str = "run", key: str = "run", what: str = "runs",
-                 read: Callable[[int, dict], Any] = lambda index, data: data, write: bool = True):
+                 read: Callable[[int, dict], Any] = lambda index, data: data, write: bool = True,
+                 max_bytes: int = MAX_RECORD_BYTES):
         out_dir = Path(out_dir)
         self.dir = out_dir / subdir
         self.fingerprint = fingerprint
         self.prefix = prefix
         self.key = key
+        self.max_bytes = max_bytes
         marker_path = out_dir / marker
         self._stored: dict[int, Any] = {}
         if resume:
-            if marker_path.exists():
-                stored = _read_object(marker_path, task=False)
+            if os.path.lexists(marker_path):
+                stored = _read_object(marker_path, MAX_MARKER_BYTES, task=False)
                 if stored.get("fingerprint") != fingerprint:
                     raise BatchError(_mismatch(out_dir, what, stored, dict(settings), fingerprint))
             self._stored = self._read_all(read)
@@ -395,7 +404,7 @@ class ResultStore:
     def _read_all(self, read: Callable[[int, dict], Any]) -> dict[int, Any]:
         done = {}
         for path in sorted(self.dir.glob(f"{self.prefix}_*.json")):
-            data = _read_object(path)
+            data = _read_object(path, self.max_bytes)
             if not isinstance(data.get("fingerprint"), str):
                 raise BatchError(_damaged(path, "no settings fingerprint"))
             if data["fingerprint"] != self.fingerprint:
@@ -446,18 +455,35 @@ def _is_int(value: object) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
+def check_bounds(data: Mapping, bounds: Mapping[str, tuple[float, float]], where: str = "",
+                 nan: Sequence[str] = ()) -> None:
+    """Every number of ``data`` under a key of ``bounds`` (its type already checked) is finite and within its
+    (low, high); None passes, and NaN for the keys of ``nan`` (a figure that has none). A ``ValueError``
+    naming the first key that is not."""
+    for key, (low, high) in bounds.items():
+        value = data.get(key)
+        if value is None or (key in nan and isinstance(value, float) and math.isnan(value)):
+            continue
+        finite = isinstance(value, int) or math.isfinite(value)  # an int past float's range is finite
+        if not (finite and low <= value <= high):
+            raise ValueError(f"{where}{key} = {_short(value)}; expected a finite number from {low:g} to {high:g}")
+
+
 def _short(value: object) -> str:
+    if isinstance(value, LongNumber):
+        return repr(value)
     text = json.dumps(value) if isinstance(value, (str, int, float, bool, type(None))) else type(value).__name__
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _read_object(path: Path, task: bool = True) -> dict:
-    """A JSON object from ``path`` (a task's file, or the marker); a :class:`BatchError` naming the file when it
-    is not one."""
+def _read_object(path: Path, max_bytes: int, task: bool = True) -> dict:
+    """A JSON object from ``path`` (a task's file, or the marker), read as untrusted; a :class:`BatchError`
+    naming the file when it is not one (not a regular file of at most ``max_bytes``, not UTF-8 JSON, nested
+    too deep, not an object)."""
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError) as error:  # unreadable, not UTF-8, not JSON, nested too deep
-        raise BatchError(_damaged(path, describe_error(error), task)) from None
+        data = load_json(read_small_file(path, max_bytes))
+    except SmallFileError as error:
+        raise BatchError(_damaged(path, error.reason, task)) from None
     if not isinstance(data, dict):
         raise BatchError(_damaged(path, f"a JSON {_JSON_NAMES.get(type(data), 'value')}, not an object", task))
     return data

@@ -15,36 +15,6 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 
-class SmallFileError(ValueError):
-    """A file that is not a readable regular file of the size asked: ``reason`` is what was found (one line,
-    e.g. ``not an existing regular file``, ``2000 bytes``); ``missing``: no regular file there;
-    ``too_big``: one bigger than asked."""
-
-    def __init__(self, reason: str, *, missing: bool = False, too_big: bool = False):
-        super().__init__(reason)
-        self.reason, self.missing, self.too_big = reason, missing, too_big
-
-
-def read_small_file(path: Path, max_bytes: int) -> bytes:
-    """The bytes of ``path``, a regular file of at most ``max_bytes``; :class:`SmallFileError` otherwise:
-    not an existing regular file, an error of the system (a name too long, a permission), or bigger
-    (by its size, or while it is read: a file that grows, or one that says it has no size)."""
-    path = Path(path)
-    try:
-        if not path.is_file():
-            raise SmallFileError("not an existing regular file", missing=True)
-        size = path.stat().st_size
-        if size > max_bytes:
-            raise SmallFileError(f"{size} bytes", too_big=True)
-        with path.open("rb") as handle:
-            raw = handle.read(max_bytes + 1)
-    except OSError as error:
-        raise SmallFileError(error.strerror or type(error).__name__) from None
-    if len(raw) > max_bytes:
-        raise SmallFileError(f"more than {max_bytes} bytes", too_big=True)
-    return raw
-
-
 def write_text(path: Path, text: str) -> Path:
     """``text`` into ``path``."""
     path = Path(path)

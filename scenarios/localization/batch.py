@@ -27,6 +27,7 @@ from scenarios.common.batch import (
     BatchError,
     BatchOptions,
     ResultStore,
+    check_bounds,
     check_fields,
     default_workers,
     execute,
@@ -168,11 +169,26 @@ _SAMPLE_TYPES = {"int": int, "float": float, "str": str}
 _SAMPLE_FIELDS = {f.name: _SAMPLE_TYPES[f.type] for f in dataclasses.fields(LocalizationSample)}
 _SAMPLE_REQUIRED = {f.name: _SAMPLE_FIELDS[f.name] for f in dataclasses.fields(LocalizationSample)
                     if f.default is dataclasses.MISSING}
+MAX_SECONDS = 1e7  # a run's simulated or wall time
+MAX_FIELD_M = 100.0  # a true position (the field and its surroundings are a few metres)
+MAX_ESTIMATE = 1e6  # an estimate (m or rad) may be far off, never unbounded
+MAX_COUNT = 10**9
+MAX_NAME_CHARS = 200
+_RUN_BOUNDS = {"sim_seconds": (0.0, MAX_SECONDS), "wall_seconds": (0.0, MAX_SECONDS)}
+_SAMPLE_BOUNDS = {
+    "run": (0, MAX_COUNT), "event": (0, MAX_COUNT), "sim_time_s": (0.0, MAX_SECONDS),
+    "true_x": (-MAX_FIELD_M, MAX_FIELD_M), "true_y": (-MAX_FIELD_M, MAX_FIELD_M), "true_theta": (-MAX_ESTIMATE, MAX_ESTIMATE),
+    "est_x": (-MAX_ESTIMATE, MAX_ESTIMATE), "est_y": (-MAX_ESTIMATE, MAX_ESTIMATE),
+    "est_theta": (-MAX_ESTIMATE, MAX_ESTIMATE), "landmarks_used": (0, MAX_COUNT), "percepts": (0, MAX_COUNT),
+    "compute_ms": (0.0, MAX_SECONDS * 1000.0),
+}
+_NAN_SAMPLE_FIELDS = ("est_x", "est_y", "est_theta", "compute_ms")  # no estimate, no time measured
 
 
 def _outcome(run: int, data: dict, seeds: Sequence[int]) -> RunOutcome:
     """The outcome a run file holds; ``ValueError`` when it is not one of this scenario's runs."""
     check_fields(data, _RUN_FIELDS)
+    check_bounds(data, _RUN_BOUNDS)
     if run >= len(seeds) or data["seed"] != seeds[run]:
         raise ValueError(f"run {run} with seed {data['seed']} is not a run of this scenario")
     samples = []
@@ -184,6 +200,12 @@ def _outcome(run: int, data: dict, seeds: Sequence[int]) -> RunOutcome:
         unknown = sorted(set(row) - set(_SAMPLE_FIELDS))
         if unknown:
             raise ValueError(f"samples[{i}] has unknown keys {unknown}")
+        check_bounds(row, _SAMPLE_BOUNDS, f"samples[{i}].", nan=_NAN_SAMPLE_FIELDS)
+        if row["run"] != run:
+            raise ValueError(f"samples[{i}].run = {row['run']}; expected {run}, the run of the file")
+        for key in ("robot", "method"):
+            if not 0 < len(row[key]) <= MAX_NAME_CHARS:
+                raise ValueError(f"samples[{i}].{key}: {len(row[key])} characters; expected 1 to {MAX_NAME_CHARS}")
         samples.append(LocalizationSample(**row))
     return RunOutcome(run, data["seed"], tuple(samples), data["sim_seconds"], data["wall_seconds"], data["complete"])
 

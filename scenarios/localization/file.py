@@ -11,8 +11,9 @@ measured while they play a refereed game, sampled every second of PLAYING time (
 unknown keys are mistakes too.
 
 Every value is bounded, so that a file that loads also runs: a file is at most
-:data:`MAX_FILE_BYTES` (checked before it is parsed) and nested no deeper than the TOML
-parser can follow; ``samples`` at most :data:`~scenarios.common.limits.MAX_SAMPLES`;
+:data:`MAX_FILE_BYTES` and has keys of at most :data:`~agents.toml_text.MAX_KEY_PARTS` dotted
+parts (both checked before it is parsed), nested no deeper than the TOML parser can follow;
+``samples`` at most :data:`~scenarios.common.limits.MAX_SAMPLES`;
 ``name`` at most :data:`MAX_NAME_CHARS` characters, ``description`` :data:`MAX_DESCRIPTION_CHARS`,
 a policy name :data:`MAX_POLICY_CHARS`; ``half_seconds`` 1 s .. 1 day; ``motion_scale``
 0 .. :data:`MAX_MOTION_SCALE`; ``max_sim_seconds_per_run`` in :data:`SIM_SECONDS_RANGE`,
@@ -32,9 +33,10 @@ from typing import NoReturn
 
 from agents.localization import LOCALIZERS
 from agents.policies import PolicyNameError, known_policies, policy_factory
+from agents.toml_text import MAX_KEY_PARTS, TomlBoundsError, load_toml
 from agents.vision.camera_models import CAMERA_MODELS
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId, Side
-from scenarios.common.io import SmallFileError, read_small_file
+from scenarios.common.untrusted import SmallFileError, read_small_file
 from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN, MAX_SAMPLES
 from scenarios.localization.spec import MEASURABLE_POLICIES, RobotEntry, ScenarioSpec, ThesisReference
 from world.field import FIELD, Pose2D
@@ -136,8 +138,9 @@ def load_scenario(name_or_path: str | Path) -> ScenarioSpec:
 
 
 def _read_toml(path: Path, given: str) -> dict:
-    """The parsed TOML of ``path``: a regular file of at most :data:`MAX_FILE_BYTES`, UTF-8, valid and not
-    nested deeper than the parser can follow; a :class:`ScenarioFileError` naming the file otherwise."""
+    """The parsed TOML of ``path``: a regular file of at most :data:`MAX_FILE_BYTES`, UTF-8, valid, with keys
+    of a bounded number of parts and not nested deeper than the parser can follow
+    (:func:`agents.toml_text.load_toml`); a :class:`ScenarioFileError` naming the file otherwise."""
     expected_file = f"an existing scenario file or one of {', '.join(NAMED_SCENARIOS)}"
     try:
         raw = read_small_file(path, MAX_FILE_BYTES)
@@ -151,12 +154,12 @@ def _read_toml(path: Path, given: str) -> dict:
     except UnicodeDecodeError as exc:
         raise ScenarioFileError(path, "<syntax>", "a UTF-8 text file", str(exc)) from exc
     try:
-        return tomllib.loads(text)
+        return load_toml(text)
+    except TomlBoundsError as exc:
+        raise ScenarioFileError(path, "<syntax>", f"arrays and tables nested a few levels deep, keys of at most "
+                                f"{MAX_KEY_PARTS} dotted parts", str(exc)) from None
     except tomllib.TOMLDecodeError as exc:
-        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from exc
-    except RecursionError as exc:
-        raise ScenarioFileError(path, "<syntax>", "arrays and tables nested a few levels deep",
-                                "nesting deeper than the parser can follow") from exc
+        raise ScenarioFileError(path, "<syntax>", "valid TOML", str(exc)) from None
 
 
 def parse_scenario(data: dict, path: str) -> ScenarioSpec:

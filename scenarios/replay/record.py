@@ -4,7 +4,14 @@ A match directory holds ``match_log.npz`` (:mod:`match.log`), ``events.jsonl``
 (:mod:`match.events`, one event per line) and ``summary.json`` (:mod:`match.runner`; it is
 missing when a match was interrupted, and then the defaults of the referee stand in). Every
 problem (a missing file, an archive that does not open, a truncated line, arrays of
-mismatched lengths) is a :class:`ReplayInputError`: one line naming the file and what is wrong.
+mismatched lengths, a value out of its range) is a :class:`ReplayInputError`: one line naming
+the file, the field and what is wrong.
+
+The files are read as untrusted (:mod:`scenarios.common.untrusted`): regular files only, of a
+bounded size; JSON of a bounded depth; the log's array headers checked against its layout (at
+most :data:`MAX_LOG_STEPS` steps of at most eight robots, numbers of the dtypes it writes)
+before any array is loaded, so that a header claiming terabytes allocates nothing; then every
+value within its range, and the summary's winner in agreement with its score.
 
 Besides the arrays every log has, the log may carry per-robot per-step extras that the team
 agents report (see :data:`EXTRAS`); an extra that is absent is simply not shown.
@@ -14,17 +21,40 @@ from __future__ import annotations
 
 import json
 import math
-import zipfile
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from match.protocol.ids import AgentId
+from match.protocol.ids import MAX_PLAYERS_PER_TEAM, AgentId
+from match.protocol.spaces import MAX_SCORE
+from scenarios.common.untrusted import (
+    ArrayHeader,
+    LongNumber,
+    NpzArchive,
+    SmallFileError,
+    check_json_depth,
+    json_int,
+    load_json,
+    read_small_file,
+)
 
 LOG_FILE = "match_log.npz"
 EVENTS_FILE = "events.jsonl"
 SUMMARY_FILE = "summary.json"
+MAX_LOG_BYTES = 4 << 30
+MAX_EVENTS_BYTES = 64 << 20
+MAX_SUMMARY_BYTES = 4 << 20
+MAX_LOG_STEPS = 5_000_000  # two halves of the longest allowed length (86,400 s) at 25 steps a second, and pauses
+MAX_TIME_S = 1e7
+MAX_ROBOTS = 2 * MAX_PLAYERS_PER_TEAM
+MAX_ROLE_NAMES = 64  # match.log keeps at most this many
+MAX_NAME_CHARS = 64  # an agent id, a role name, an event's kind
+MAX_COORDINATE = 1000.0  # a logged position (m) or heading (rad): the field is a few metres
+MAX_EXTRA = 1e6  # a reported value (m, rad, a role index, landmark bits)
+MAX_SEED = 2**64 - 1
+MAX_LANDMARK_FLAGS = 62  # landmarks as flags become the bits of one int64
 
 
 class ReplayInputError(ValueError):
@@ -108,10 +138,11 @@ def load_match(directory: Path) -> MatchRecord:
         from match.referee import RefereeConfig  # loads the simulator: only when the summary does not say
 
         half_seconds = RefereeConfig().half_seconds
-    elif isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0:
+    elif _is_number(value) and 0 < value <= MAX_TIME_S:
         half_seconds = float(value)
     else:
-        raise ReplayInputError(f"{directory / SUMMARY_FILE}: config.half_seconds = {value!r}; expected a number > 0")
+        raise ReplayInputError(f"{directory / SUMMARY_FILE}: config.half_seconds = {_short(value)}; "
+                               f"expected a number of seconds > 0, at most {MAX_TIME_S:g}")
     return MatchRecord(directory=directory, events=events, summary=summary, half_seconds=half_seconds, **arrays)
 
 
@@ -119,48 +150,38 @@ def load_match(directory: Path) -> MatchRecord:
 
 
 def _read_log(path: Path) -> dict:
-    if not path.is_file():
+    if not os.path.lexists(path):
         raise ReplayInputError(f"{path}: missing (a match writes it when it ends)")
     try:
-        with np.load(path, allow_pickle=False) as npz:
-            raw = {key: npz[key] for key in npz.files}
-    except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError) as error:
-        raise ReplayInputError(f"{path}: not a readable .npz archive ({type(error).__name__}: {_one_line(error)})") from None
-    missing = [key for key in REQUIRED if key not in raw]
-    if missing:
-        raise ReplayInputError(f"{path}: no array {', '.join(missing)} (has {', '.join(sorted(raw)) or 'none'})")
-
-    agents = raw["agents"]
-    if agents.ndim != 1 or agents.dtype.kind not in "US" or len(agents) == 0:
-        raise ReplayInputError(f"{path}: agents has shape {agents.shape} and type {agents.dtype}; expected robot ids")
-    names = tuple(str(a) for a in agents)
+        with NpzArchive(path, MAX_LOG_BYTES) as archive:
+            steps, n = _check_layout(path, archive.headers)
+            wanted = [*REQUIRED, *(e.key for e in EXTRAS), *(e.labels for e in EXTRAS if e.labels)]
+            raw = {key: archive.array(key) for key in wanted if key in archive.headers}
+    except SmallFileError as error:
+        reason = error.reason if error.reason.startswith(("array ", "not a readable")) else \
+            f"not a readable .npz archive ({error.reason})"
+        raise ReplayInputError(f"{path}: {reason}") from None
+    names = tuple(str(a) for a in raw["agents"])
     try:
         distinct = len({AgentId.parse(name) for name in names}) == len(names)
     except ValueError as error:
         raise ReplayInputError(f"{path}: agents: {error}") from None
     if not distinct:
         raise ReplayInputError(f"{path}: agents names a robot twice: {', '.join(names)}")
-    n = len(names)
-    steps = len(raw["time_s"]) if raw["time_s"].ndim == 1 else -1
-    if steps <= 0:
-        raise ReplayInputError(f"{path}: time_s has shape {raw['time_s'].shape}; expected one time per step")
-    shapes = {"state": (steps,), "half": (steps,), "ball": (steps, 3), "robots": (steps, n, 3), "fallen": (steps, n)}
-    for key, shape in shapes.items():
-        if raw[key].shape != shape:
-            raise ReplayInputError(
-                f"{path}: arrays of mismatched lengths: {key} has shape {raw[key].shape}, expected {shape} "
-                f"for {steps} steps (time_s) and {n} robots (agents)"
-            )
     time_s = raw["time_s"].astype(np.float64)
     if not np.isfinite(time_s).all() or (len(time_s) > 1 and (np.diff(time_s) <= 0).any()):
         raise ReplayInputError(f"{path}: time_s is not finite and strictly increasing")
+    if time_s[0] < 0 or time_s[-1] > MAX_TIME_S:
+        raise ReplayInputError(f"{path}: time_s runs from {time_s[0]:g} to {time_s[-1]:g} s; expected 0 to {MAX_TIME_S:g}")
     for key in ("ball", "robots"):
-        bad = ~np.isfinite(raw[key]).all(axis=tuple(range(1, raw[key].ndim)))
+        values = raw[key].astype(np.float64)
+        bad = ~(np.abs(values) <= MAX_COORDINATE).all(axis=tuple(range(1, values.ndim)))  # NaN is bad too
         if bad.any():
-            raise ReplayInputError(f"{path}: {key} is not finite at step {int(np.argmax(bad))}")
+            raise ReplayInputError(f"{path}: {key} is not finite, or beyond {MAX_COORDINATE:g} m, at step "
+                                   f"{int(np.argmax(bad))}")
     half = raw["half"].astype(np.int64)
     if not np.isin(half, (1, 2)).all():
-        raise ReplayInputError(f"{path}: half has values other than 1 and 2: {sorted(set(half.tolist()) - {1, 2})}")
+        raise ReplayInputError(f"{path}: half has values other than 1 and 2: {sorted(set(half.tolist()) - {1, 2})[:5]}")
     state = raw["state"].astype(np.int64)
     if ((state < 0) | (state > 4)).any():
         raise ReplayInputError(f"{path}: state has values outside 0-4 (INITIAL..FINISHED)")
@@ -169,7 +190,7 @@ def _read_log(path: Path) -> dict:
         if extra.key in raw:
             extras[extra.channel] = _extra(path, raw, extra, steps, n)
             if extra.labels is not None and extra.labels in raw:
-                labels[extra.channel] = tuple(str(v) for v in np.asarray(raw[extra.labels]).ravel())
+                labels[extra.channel] = tuple(str(v) for v in raw[extra.labels])
     return {
         "agents": names,
         "time_s": time_s,
@@ -183,30 +204,84 @@ def _read_log(path: Path) -> dict:
     }
 
 
+_INTEGERS, _NUMBERS, _FLAGS = "iu", "iuf", "biu"
+
+
+def _check_layout(path: Path, headers: dict[str, ArrayHeader]) -> tuple[int, int]:
+    """The steps T and robots N the log's array headers describe, checked before any array is loaded: every
+    array the layout of :mod:`match.log` gives it (T at most :data:`MAX_LOG_STEPS`, N at most
+    :data:`MAX_ROBOTS`), of the dtypes it writes."""
+    missing = [key for key in REQUIRED if key not in headers]
+    if missing:
+        raise ReplayInputError(f"{path}: no array {', '.join(missing)} (has {', '.join(sorted(headers)) or 'none'})")
+    agents = headers["agents"]
+    if (len(agents.shape) != 1 or agents.dtype.kind not in "US" or not 0 < agents.shape[0] <= MAX_ROBOTS
+            or agents.dtype.itemsize > 4 * MAX_NAME_CHARS):
+        raise ReplayInputError(f"{path}: agents has shape {agents.shape} and type {agents.dtype}; expected robot ids")
+    n = agents.shape[0]
+    time = headers["time_s"]
+    steps = time.shape[0] if len(time.shape) == 1 else -1
+    if not 0 < steps <= MAX_LOG_STEPS or time.dtype.kind not in _NUMBERS:
+        raise ReplayInputError(f"{path}: time_s has shape {time.shape} and type {time.dtype}; expected one time per "
+                               f"step, at most {MAX_LOG_STEPS} steps")
+    shapes = {"state": (steps,), "half": (steps,), "ball": (steps, 3), "robots": (steps, n, 3), "fallen": (steps, n)}
+    kinds = {"state": _INTEGERS, "half": _INTEGERS, "ball": _NUMBERS, "robots": _NUMBERS, "fallen": _FLAGS}
+    for key, shape in shapes.items():
+        if headers[key].shape != shape:
+            raise ReplayInputError(
+                f"{path}: arrays of mismatched lengths: {key} has shape {headers[key].shape}, expected {shape} "
+                f"for {steps} steps (time_s) and {n} robots (agents)"
+            )
+        if headers[key].dtype.kind not in kinds[key] or headers[key].dtype.itemsize > 8:
+            what = "integers" if kinds[key] == _INTEGERS else "numbers"
+            raise ReplayInputError(f"{path}: {key} has type {headers[key].dtype}; expected {what}")
+    for extra in EXTRAS:
+        header = headers.get(extra.key)
+        if header is None:
+            continue
+        allowed = [(steps, n, extra.dims)] + ([(steps, n)] if extra.dims == 1 else [])
+        if extra.channel == "landmarks":  # also one flag per landmark
+            allowed += [(steps, n, k) for k in range(2, MAX_LANDMARK_FLAGS + 1)]
+        if header.shape not in allowed or header.dtype.kind not in "biuf" or header.dtype.itemsize > 8:
+            raise ReplayInputError(
+                f"{path}: arrays of mismatched lengths: {extra.key} has shape {header.shape} and type {header.dtype}, "
+                f"expected {(steps, n, extra.dims)} numbers for {steps} steps (time_s) and {n} robots (agents)"
+            )
+        names = headers.get(extra.labels) if extra.labels else None
+        if names is not None and (len(names.shape) != 1 or names.dtype.kind not in "US"
+                                  or names.shape[0] > MAX_ROLE_NAMES or names.dtype.itemsize > 4 * MAX_NAME_CHARS):
+            raise ReplayInputError(f"{path}: {extra.labels} has shape {names.shape} and type {names.dtype}; expected "
+                                   f"at most {MAX_ROLE_NAMES} names of at most {MAX_NAME_CHARS} characters")
+    return steps, n
+
+
 def _extra(path: Path, raw: dict, extra: Extra, steps: int, n: int) -> np.ndarray:
     values = raw[extra.key]
-    if extra.channel == "landmarks" and values.ndim == 3 and values.shape[:2] == (steps, n):
+    if extra.channel == "landmarks" and values.ndim == 3 and values.shape[2] != 1:
         bits = 1 << np.arange(values.shape[2], dtype=np.int64)
         values = (np.nan_to_num(values.astype(np.float64)) != 0).astype(np.int64) @ bits
-    if values.ndim == 2 and extra.dims == 1:
+    if values.ndim == 2:
         values = values[:, :, None]
-    if values.shape != (steps, n, extra.dims) or values.dtype.kind not in "biuf":
-        raise ReplayInputError(
-            f"{path}: arrays of mismatched lengths: {extra.key} has shape {values.shape} and type {values.dtype}, "
-            f"expected {(steps, n, extra.dims)} numbers for {steps} steps (time_s) and {n} robots (agents)"
-        )
-    return values.astype(np.float64)
+    values = values.astype(np.float64)
+    known = values[~np.isnan(values)]
+    if not (np.abs(known) <= MAX_EXTRA).all():
+        raise ReplayInputError(f"{path}: {extra.key} has values that are infinite or beyond {MAX_EXTRA:g}")
+    return values
 
 
 # ---- events.jsonl and summary.json ---------------------------------------------------------
 
 
 def _read_events(path: Path) -> tuple[dict, ...]:
-    if not path.is_file():
+    if not os.path.lexists(path):
         raise ReplayInputError(f"{path}: missing (a match writes it as it plays)")
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
+        raw = read_small_file(path, MAX_EVENTS_BYTES)
+        check_json_depth(raw, lines=True)
+        text = raw.decode("utf-8")
+    except SmallFileError as error:
+        raise ReplayInputError(f"{path}: {error.reason}") from None
+    except UnicodeDecodeError as error:
         raise ReplayInputError(f"{path}: unreadable ({_one_line(error)})") from None
     events = []
     lines = text.split("\n")
@@ -214,29 +289,120 @@ def _read_events(path: Path) -> tuple[dict, ...]:
         if not line.strip():
             continue
         try:
-            event = json.loads(line)
+            event = json.loads(line, parse_int=json_int)
         except json.JSONDecodeError as error:
             hint = ", truncated?" if number >= len(lines) - 1 else ""
             raise ReplayInputError(f"{path}: line {number}: not valid JSON ({error.msg}{hint})") from None
         if not isinstance(event, dict):
             raise ReplayInputError(f"{path}: line {number}: expected an object, found {type(event).__name__}")
-        t, kind = event.get("time_s"), event.get("kind")
-        if not (isinstance(t, (int, float)) and not isinstance(t, bool) and math.isfinite(t)) or not isinstance(kind, str):
-            raise ReplayInputError(f"{path}: line {number}: an event needs a number time_s and a text kind")
+        problem = _event_problem(event)
+        if problem is not None:
+            raise ReplayInputError(f"{path}: line {number}: {problem}")
         events.append(event)
     return tuple(events)
 
 
+def _event_problem(event: dict) -> str | None:
+    """What is wrong with an event the page reads (its time, kind, half and tallies), or None."""
+    t, kind = event.get("time_s"), event.get("kind")
+    if not (_is_number(t) and 0 <= t <= MAX_TIME_S):
+        return f"time_s = {_short(t)}; expected a number of seconds from 0 to {MAX_TIME_S:g}"
+    if not (isinstance(kind, str) and 0 < len(kind) <= MAX_NAME_CHARS):
+        return f"kind = {_short(kind)}; expected a text of 1 to {MAX_NAME_CHARS} characters"
+    if "half" in event and not (type(event["half"]) is int and event["half"] in (1, 2)):
+        return f"half = {_short(event['half'])}; expected 1 or 2"
+    for tally in ("score", "shootout"):
+        value = event.get(tally)
+        if isinstance(value, dict):
+            for side in ("home", "away"):
+                if side in value and not _is_count(value[side]):
+                    return f"{tally}.{side} = {_short(value[side])}; expected a count from 0 to {MAX_SCORE}"
+    return _not_finite(event, "")
+
+
+def _not_finite(value: object, where: str) -> str | None:
+    """The first number of a JSON value that is not finite (the page's JSON has no NaN), as a problem, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"{where} = {_short(value)}; expected a finite number"
+    if isinstance(value, LongNumber):
+        return f"{where} = {_short(value)}; expected a number of at most a few hundred digits"
+    items = value.items() if isinstance(value, dict) else enumerate(value) if isinstance(value, list) else ()
+    for key, item in items:
+        problem = _not_finite(item, f"{where}.{key}" if where else str(key))
+        if problem is not None:
+            return problem
+    return None
+
+
 def _read_summary(path: Path) -> dict | None:
-    if not path.exists():
+    if not os.path.lexists(path):
         return None
     try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise ReplayInputError(f"{path}: not valid JSON ({_one_line(error)})") from None
+        summary = load_json(read_small_file(path, MAX_SUMMARY_BYTES))
+    except SmallFileError as error:
+        reason = error.reason
+        if not (error.missing or error.too_big or reason.startswith("nested")):
+            reason = f"not valid JSON ({reason})"
+        raise ReplayInputError(f"{path}: {reason}") from None
     if not isinstance(summary, dict):
         raise ReplayInputError(f"{path}: expected a JSON object, found {type(summary).__name__}")
+    problem = _summary_problem(summary)
+    if problem is not None:
+        raise ReplayInputError(f"{path}: {problem}")
     return summary
+
+
+def _summary_problem(summary: dict) -> str | None:
+    """What is wrong with the fields of a summary the page shows (score, shoot-out, winner, seed, simulated
+    time), or None; a field that is absent is not shown."""
+    tallies = {}
+    for tally in ("score", "shootout"):
+        value = summary.get(tally)
+        if value is None and tally == "shootout":
+            continue
+        if tally not in summary:
+            continue
+        if not (isinstance(value, dict) and all(_is_count(value.get(side)) for side in ("home", "away"))):
+            return f"{tally} = {_short(value)}; expected home and away counts from 0 to {MAX_SCORE}"
+        tallies[tally] = (value["home"], value["away"])
+    winner = summary.get("winner")
+    if winner not in (None, "home", "away"):
+        return f"winner = {_short(winner)}; expected home, away or null"
+    if winner is not None and "score" in tallies:
+        score, shootout = tallies["score"], tallies.get("shootout")
+        decider = shootout if score[0] == score[1] and shootout is not None else score
+        if decider[0] == decider[1] or (decider[0] > decider[1]) != (winner == "home"):
+            shown = f"{score[0]}-{score[1]}" + (f" ({shootout[0]}-{shootout[1]} in the shoot-out)" if shootout else "")
+            return f"winner = {winner!r} after {shown}; expected the side that scored more"
+    seed = summary.get("seed")
+    if "seed" in summary and not (isinstance(seed, int) and not isinstance(seed, bool) and 0 <= seed <= MAX_SEED):
+        return f"seed = {_short(seed)}; expected an integer from 0 to {MAX_SEED}"
+    seconds = summary.get("sim_seconds")
+    if "sim_seconds" in summary and not (_is_number(seconds) and 0 <= seconds <= MAX_TIME_S):
+        return f"sim_seconds = {_short(seconds)}; expected a number of seconds from 0 to {MAX_TIME_S:g}"
+    return None
+
+
+def _is_number(value: object) -> bool:
+    """A finite int or float (not a bool); an int past float's range is finite too."""
+    if isinstance(value, bool):
+        return False
+    return isinstance(value, int) or (isinstance(value, float) and math.isfinite(value))
+
+
+def _is_count(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= MAX_SCORE
+
+
+def _short(value: object) -> str:
+    """A value as a message shows it: its JSON text, at most 40 characters."""
+    if isinstance(value, LongNumber):
+        return repr(value)
+    try:
+        text = json.dumps(value)
+    except (TypeError, ValueError):
+        text = type(value).__name__
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _one_line(error: BaseException) -> str:

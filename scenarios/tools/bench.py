@@ -32,7 +32,8 @@ import pybullet as pb
 
 from agents.vision.head_scan import SCAN_PITCH_RAD
 from scenarios.common.batch import describe_error
-from scenarios.common.io import SmallFileError, read_small_file, write_json
+from scenarios.common.io import write_json
+from scenarios.common.untrusted import SmallFileError, read_small_file
 from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import shutil
 import time
 from collections.abc import Mapping, Sequence
@@ -27,9 +28,18 @@ from pathlib import Path
 from tqdm import tqdm
 
 from agents.policies import policy_factory
+from match.protocol.spaces import MAX_SCORE
 from match.runner import package_versions
 from match.statistics import TEAM_KEYS
-from scenarios.common.batch import BatchOptions, ResultStore, TaskResult, check_fields, execute, require_ray
+from scenarios.common.batch import (
+    BatchOptions,
+    ResultStore,
+    TaskResult,
+    check_bounds,
+    check_fields,
+    execute,
+    require_ray,
+)
 from scenarios.common.io import write_text
 from scenarios.tournament.figures import plot_ratings, plot_standings
 from scenarios.tournament.play import play_match
@@ -48,6 +58,7 @@ log = logging.getLogger(__name__)
 MARKER_FILE = "tournament.json"
 RECORDS_DIR = "runs"
 MATCHES_DIR = "matches"
+MAX_RECORD_BYTES = 16 << 20  # one match's record: its score and statistics
 
 
 def check_policies(settings: TournamentSettings) -> None:
@@ -89,7 +100,8 @@ def run_tournament(settings: TournamentSettings, out_dir: Path, options: BatchOp
     tasks = settings.tasks()
     store = ResultStore(out_dir, fingerprint=settings.fingerprint(), settings=settings.to_json(),
                         resume=options.resume, marker=MARKER_FILE, subdir=RECORDS_DIR, prefix="match", key="match",
-                        what="matches", read=lambda index, data: stored_record(tasks, index, data))
+                        what="matches", read=lambda index, data: stored_record(tasks, index, data),
+                        max_bytes=MAX_RECORD_BYTES)
     if not options.resume:
         _clear_matches(out_dir)
     records = {i: r for i, r in store.load().items() if r["status"] == "ok"}  # failed ones are played again
@@ -189,6 +201,11 @@ _SCHEDULED = ("pair", "game", "seed", "home_policy", "away_policy", "home_entran
 _PLAYED_FIELDS = {"home_goals": int, "away_goals": int, "home_shootout": (int, type(None)),
                   "away_shootout": (int, type(None)), "winner_side": (str, type(None)), "sim_seconds": float,
                   "wall_seconds": float, "statistics": dict}
+MAX_SIM_SECONDS = 1e7  # two halves of the longest allowed length, their pauses and a shoot-out fit many times
+MAX_STATISTIC = 1e12  # a count, a share, metres or seconds of a match
+_PLAYED_BOUNDS = {"home_goals": (0, MAX_SCORE), "away_goals": (0, MAX_SCORE), "home_shootout": (0, MAX_SCORE),
+                  "away_shootout": (0, MAX_SCORE), "sim_seconds": (0.0, MAX_SIM_SECONDS),
+                  "wall_seconds": (0.0, MAX_SIM_SECONDS)}
 
 
 def stored_record(tasks: Sequence[MatchTask], index: int, data: dict) -> dict:
@@ -206,14 +223,37 @@ def stored_record(tasks: Sequence[MatchTask], index: int, data: dict) -> dict:
         raise ValueError(f"status = {data['status'][:40]!r}; expected 'ok' or 'failed'")
     if data["status"] == "ok":
         check_fields(data, _PLAYED_FIELDS)
-        if data["winner_side"] not in ("home", "away", None):
-            raise ValueError(f"winner_side = {data['winner_side'][:40]!r}; expected 'home', 'away' or null")
+        check_bounds(data, _PLAYED_BOUNDS)
+        _check_result(data)
         for side in ("home", "away"):
             team = data["statistics"].get(side)
             if not isinstance(team, dict):
                 raise ValueError(f"statistics.{side} is not an object")
-            check_fields(team, {key: (float, type(None)) for key in TEAM_KEYS if key in team}, f"statistics.{side}.")
+            present = [key for key in TEAM_KEYS if key in team]
+            check_fields(team, {key: (float, type(None)) for key in present}, f"statistics.{side}.")
+            for key in present:  # NaN stands for a figure without samples
+                value = team[key]
+                if value is not None and not (isinstance(value, float) and math.isnan(value)
+                                              or abs(value) <= MAX_STATISTIC):
+                    raise ValueError(f"statistics.{side}.{key} = {value!r:.40}; expected a number of at most "
+                                     f"{MAX_STATISTIC:g}")
     return data
+
+
+def _check_result(data: dict) -> None:
+    """The score, the shoot-out and the winner of a played match's record agree: a shoot-out only after a
+    draw, both its counts or neither, and the winner the side with more goals (of the shoot-out after a draw)."""
+    home, away = data["home_goals"], data["away_goals"]
+    shootout = (data["home_shootout"], data["away_shootout"])
+    if (shootout[0] is None) != (shootout[1] is None):
+        raise ValueError(f"home_shootout = {shootout[0]}, away_shootout = {shootout[1]}; expected both or neither")
+    if shootout[0] is not None and home != away:
+        raise ValueError(f"a shoot-out after {home}-{away}; expected one only after a draw")
+    decider = (home, away) if home != away or shootout[0] is None else shootout
+    winner = None if decider[0] == decider[1] else ("home" if decider[0] > decider[1] else "away")
+    if data["winner_side"] != winner:
+        score = f"{home}-{away}" + (f" ({shootout[0]}-{shootout[1]} in the shoot-out)" if shootout[0] is not None else "")
+        raise ValueError(f"winner_side = {data['winner_side']!r:.40} after {score}; expected {winner!r}")
 
 
 def write_report(out_dir: Path, report: TournamentReport) -> list[Path]:
