@@ -77,6 +77,7 @@ TABLE = [
     (["tournament", "scripted", "stand", "--out", "out"], "--controller-memory", ("63", "1e7", *BAD_NUMBERS)),
     (["replay", "match"], "--out", BAD_FILES),
     (["replay", "match"], "--stride", ("0", "100001", *BAD_COUNTS)),
+    (["rerun", "match"], "--out", BAD_DIRS),
 ]
 
 # Refusals that name what is wrong without a flag: (command line, a word the message holds)
@@ -96,6 +97,9 @@ OTHER_REFUSALS = [
     (["replay", "match"], "MATCH_DIR"),  # match/replay.html is a directory
     (["replay", ""], "MATCH_DIR"),
     (["replay", "a_file"], "a_file"),
+    (["rerun", "", "--out", "out"], "MATCH_DIR"),
+    (["rerun", "a_file", "--out", "out"], "a_file"),
+    (["rerun", "a_dir", "--out", "out"], "summary.json"),
 ]
 
 
@@ -184,7 +188,8 @@ def _valued_arguments() -> set[tuple[str, str]]:
 
 def test_the_table_covers_every_argument_that_takes_a_value() -> None:
     covered = {(argv[0], flag) for argv, flag, _ in TABLE}
-    positionals = {("scenario", "scenarios"), ("tournament", "policies"), ("replay", "match_dir")}  # OTHER_REFUSALS
+    positionals = {("scenario", "scenarios"), ("tournament", "policies"), ("replay", "match_dir"),
+                   ("rerun", "match_dir")}  # OTHER_REFUSALS
     free = {(command, flag) for command in ("scenario", "tournament") for flag in ("--backend", "--ray-address")}
     assert _valued_arguments() - covered - positionals - free == set()
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import dataclasses
 import enum
-import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -25,6 +24,7 @@ from match.game import MatchConfig
 from match.referee import RefereeConfig
 from match.runner import package_versions, plain_json
 from scenarios.matches.play import Lineup
+from scenarios.common.untrusted import SmallFileError, load_json, read_small_file
 from scenarios.matches.provenance import file_hash
 
 SUMMARY = "summary.json"
@@ -73,11 +73,9 @@ def read_summary(match_dir: Path) -> dict:
     """``MATCH_DIR/summary.json`` as a dict; :class:`RerunError` naming the file if it is not one."""
     path = Path(match_dir) / SUMMARY
     try:
-        if not path.is_file() or path.stat().st_size > SUMMARY_MAX_BYTES:
-            raise RerunError(f"{path}: not a match summary (a regular file of at most {SUMMARY_MAX_BYTES} bytes)")
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, RecursionError, json.JSONDecodeError) as error:
-        raise RerunError(f"{path}: cannot be read as JSON ({error})") from None
+        summary = load_json(read_small_file(path, SUMMARY_MAX_BYTES))
+    except SmallFileError as error:
+        raise RerunError(f"{path}: not a match summary ({error})") from None
     if not isinstance(summary, dict):
         raise RerunError(f"{path}: expected a JSON object")
     return summary
