@@ -314,3 +314,12 @@ def test_match_no_replay(fake_match, tmp_path: Path) -> None:
     assert cli.main(["match", "--out", str(out), "--half-seconds", "10", "--no-progress", "--no-replay"]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["events.jsonl", "match_log.npz", "summary.json"]
     assert match_command.NAME == "match"
+
+
+def test_the_teams_are_named_by_their_policies() -> None:
+    from scenarios.replay.data import teams_by_policy
+
+    played = {"played_by": {"policies": {"home_0": {"policy": "team"}, "home_1": {"policy": "team"},
+                                         "away_0": {"policy": "scripted"}, "away_1": {"policy": "stand"}}}}
+    assert teams_by_policy(played) == "team vs scripted+stand"
+    assert teams_by_policy({}) is None and teams_by_policy({"played_by": {"policies": "x"}}) is None

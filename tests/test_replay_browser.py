@@ -284,6 +284,7 @@ def test_a_real_match_writes_its_replay(real_match: Path) -> None:
 def test_a_real_match_plays_in_the_browser(browser, real_match: Path, tmp_path: Path) -> None:
     opened = Page(browser, real_match / "replay.html")
     try:
+        assert "team vs team" in opened.page.locator("#title").inner_text()  # who played, from the summary
         robots = len(opened.js("window.replay.data.robots.map(r => r.id)"))
         assert opened.page.locator("input.toggle[data-channel=estimate]").count() == robots  # team agents report
         opened.page.locator(".mark.kickoff").first.click()

@@ -120,7 +120,9 @@ def test_match_command(tmp_path: Path, capsys: pytest.CaptureFixture[str], quick
             "--out", str(tmp_path), "--no-progress", "--no-shootout"]
     assert cli.main(argv) == 0
     data = json.loads((tmp_path / "summary.json").read_text(encoding="utf-8"))
-    assert data["config"] == {"home_players": 2, "away_players": 1, "half_seconds": 1.5, "shootout": False}
+    assert {key: data["config"][key] for key in ("home_players", "away_players", "half_seconds", "shootout")} == {
+        "home_players": 2, "away_players": 1, "half_seconds": 1.5, "shootout": False}
+    assert data["config"]["referee"]["half_seconds"] == 1.5 and data["config"]["referee"]["shootout"] is False
     assert data["faults"]["total"] == 0 and data["real_time_factor"] > 0
     assert "summary.json" in capsys.readouterr().out
 

@@ -86,7 +86,7 @@ def replay_data(record: MatchRecord, stride: int | None = None) -> dict:
     summary = record.summary or {}
     return {
         "format": FORMAT,
-        "title": f"{record.directory.resolve().name}",
+        "title": f"{record.directory.resolve().name}" + (f": {teams}" if (teams := teams_by_policy(summary)) else ""),
         "field": field_data(),
         "colors": COLORS,
         "match": {
@@ -197,3 +197,21 @@ def _count(tally: dict, side: str, default: int) -> int:
 def _event(event: dict) -> dict:
     details = {key: value for key, value in event.items() if key not in ("time_s", "kind")}
     return {"t": int(round(event["time_s"] * 1000)), "kind": event["kind"], **details}
+
+
+def teams_by_policy(summary: dict) -> str | None:
+    """The teams named by their policies, "team vs scripted" (a team whose robots play several policies:
+    "team+stand"), from a summary's ``played_by``; None where the summary does not say who played."""
+    played_by = summary.get("played_by")
+    policies = played_by.get("policies") if isinstance(played_by, dict) else None
+    if not isinstance(policies, dict):
+        return None
+    sides: dict[str, list[str]] = {"home": [], "away": []}
+    for agent, record in policies.items():
+        name = record.get("policy") if isinstance(record, dict) else None
+        side = str(agent).split("_")[0]
+        if isinstance(name, str) and side in sides and name not in sides[side]:
+            sides[side].append(name[:80])
+    if not sides["home"] or not sides["away"]:
+        return None
+    return " vs ".join("+".join(names) for names in sides.values())
