@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 from dataclasses import field as default
 
+from world.camera_profiles import camera_profile
 from world.field import FIELD, FieldGeometry
 from world.locomotion import BalanceConfig
 from world.motions import MotionNoise, WalkLimits
@@ -111,6 +112,9 @@ class SonarConfig:
 
 @dataclass(frozen=True)
 class WorldConfig:
+    """A world's settings. ``camera_profile``: what the robots' cameras do to the rendered frames
+    (:mod:`world.camera_profiles`: ``clean``, ``robotstadium`` or ``nao``)."""
+
     field: FieldGeometry = FIELD
     physics: PhysicsConfig = default(default_factory=PhysicsConfig)
     ball: BallConfig = default(default_factory=BallConfig)
@@ -121,3 +125,7 @@ class WorldConfig:
     sonar: SonarConfig = default(default_factory=SonarConfig)
     imu_noise: ImuNoise = default(default_factory=ImuNoise)
     off_world_margin_m: float = 1.0  # placements may reach this far beyond the carpet
+    camera_profile: str = "clean"
+
+    def __post_init__(self) -> None:
+        camera_profile(self.camera_profile)  # UnknownCameraProfileError names the value and the profiles

@@ -27,3 +27,11 @@ class UnknownMotionError(WorldError, ValueError):
 
 class InvalidCommandError(WorldError, ValueError):
     """A command with a value outside its allowed range (e.g. a walk velocity)."""
+
+
+class UnknownCameraProfileError(WorldError, ValueError):
+    """A camera profile name that is not one of the profiles (:mod:`world.camera_profiles`)."""
+
+    def __init__(self, name: object, known: tuple[str, ...]):
+        super().__init__(f"unknown camera profile {name!r}; expected one of {', '.join(known)}")
+        self.name = name

@@ -21,6 +21,7 @@ import pybullet as pb
 from world import rendering
 from world.ball import BALL_RGBA, BallState, build_ball
 from world.camera_model import NAO_CAMERA, CameraPosition
+from world.camera_profiles import CameraEffects, CameraPose, camera_profile
 from world.config import RobotSpec, WorldConfig
 from world.errors import InvalidCommandError, InvalidPoseError, JointLimitError, UnknownRobotError
 from world.field import Pose2D
@@ -77,6 +78,7 @@ class WorldSnapshot:
     rng_state: dict
     imu_rng_state: dict
     imu_bias: dict
+    camera_effects: tuple
 
 
 class World:
@@ -84,7 +86,9 @@ class World:
 
     ``robots`` fixes the roster for the world's life (the scene is built once; reset
     restores a saved state). ``seed`` seeds the generator of motion noise; pass a
-    ``numpy.random.Generator`` to :meth:`reset` to share a match's generator.
+    ``numpy.random.Generator`` to :meth:`reset` to share a match's generator. The camera
+    profile (``config.camera_profile``) draws from a stream of its own, spawned from that
+    generator's seed sequence without drawing from it.
     """
 
     def __init__(
@@ -110,6 +114,7 @@ class World:
             self.close()
             raise
         self.rng = np.random.default_rng(seed)
+        self._camera = CameraEffects(camera_profile(self.config.camera_profile), self.rng.spawn(1)[0])
         self._draw_imu_bias()
         self._initial = self.save_state()
 
@@ -208,6 +213,7 @@ class World:
         elif rng is not None:
             self.rng = np.random.default_rng(rng)
         if rng is not None:
+            self._camera.rng = self.rng.spawn(1)[0]  # a child stream: the physics' draws are not touched
             self._draw_imu_bias()
 
     def _draw_imu_bias(self) -> None:
@@ -241,6 +247,7 @@ class World:
             rng_state=copy.deepcopy(self.rng.bit_generator.state),
             imu_rng_state=copy.deepcopy(self._imu_rng.bit_generator.state),
             imu_bias=copy.deepcopy(self._imu_bias),
+            camera_effects=self._camera.save(),
         )
 
     def discard_state(self, snapshot: WorldSnapshot) -> None:
@@ -269,6 +276,7 @@ class World:
         self.rng.bit_generator.state = copy.deepcopy(snapshot.rng_state)
         self._imu_rng.bit_generator.state = copy.deepcopy(snapshot.imu_rng_state)
         self._imu_bias = copy.deepcopy(snapshot.imu_bias)
+        self._camera.restore(snapshot.camera_effects)
 
     def _clear_contact_caches(self) -> None:
         """Drop cached contact pairs, which a restored state does not overwrite.
@@ -324,6 +332,7 @@ class World:
         self._accelerations[robot_id] = (0.0, 0.0, 0.0)
         self._orientations[robot_id] = orientation
         self._angular_velocities[robot_id] = (0.0, 0.0, 0.0)
+        self._camera.forget(robot_id)  # a placed camera did not move there during an exposure
 
     def place_ball(self, x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> None:
         """Put the ball on the ground at (x, y) with planar velocity (vx, vy) m/s."""
@@ -417,26 +426,42 @@ class World:
     # ---- what robots sense ----------------------------------------------------------
 
     def render_camera(self, robot_id: str) -> np.ndarray:
-        """The robot's 160x120 RGB camera image (uint8, rows top to bottom)."""
+        """The robot's 160x120 RGB camera image (uint8, rows top to bottom), through the world's camera
+        profile (:mod:`world.camera_profiles`; ``clean``: as rendered). Each call is one frame of the
+        robot's camera: the profile's image motion and lost frames follow from the robot's previous call."""
         controller = self._controllers[self._check_robot(robot_id)]
         if self._raster is not None:
-            return self._compiled_frames([self.camera_pose(robot_id)])[0][0]
-        return rendering.render_robot_camera(
+            pose = self.camera_pose(robot_id)
+            return self._through_profile(robot_id, self._compiled_frames([pose])[0][0], pose)
+        image = rendering.render_robot_camera(
             self._client, controller.body, controller.camera, self.config.render, self._ground
         )
+        if self._camera.profile.clean:
+            return image
+        return self._through_profile(robot_id, image, self.camera_pose(robot_id))
 
     def render_cameras(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
         """Each robot's camera image (as :meth:`render_camera`), as ``(robot_id, image)`` pairs in
         ``robot_ids`` order; the compiled renderer draws them all in one call."""
         ids = [self._check_robot(rid) for rid in robot_ids]
         if self._raster is not None:
-            yield from zip(ids, self._compiled_frames([self.camera_pose(rid) for rid in ids])[0])
+            poses = [self.camera_pose(rid) for rid in ids]
+            for rid, image, pose in zip(ids, self._compiled_frames(poses)[0], poses):
+                yield rid, self._through_profile(rid, image, pose)
             return
         for rid in ids:
             yield rid, self.render_camera(rid)
 
+    def _through_profile(self, robot_id: str, image: np.ndarray, pose: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+        """``image``, rendered from the camera ``pose`` of ``robot_id``, as the camera profile delivers it."""
+        if self._camera.profile.clean:
+            return image
+        camera = self._controllers[robot_id].camera
+        return self._camera.apply(robot_id, image, CameraPose(self.time_s, camera, *pose))
+
     def render_camera_at(self, rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
-        """The 160x120 RGB image of a robot camera at a pose (rotation camera->world, position m)."""
+        """The 160x120 RGB image of a robot camera at a pose (rotation camera->world, position m), as rendered
+        (no camera profile: no robot's camera took it)."""
         cam = NAO_CAMERA
         if self._raster is not None:
             return self._compiled_frames([(np.asarray(rotation, float), np.asarray(position, float))])[0][0]
@@ -444,9 +469,9 @@ class World:
                                 cam.width_px, cam.height_px, cam.vertical_fov_rad, self.config.render, self._ground)
 
     def camera_labels(self, robot_id: str) -> tuple[np.ndarray, np.ndarray]:
-        """The robot's camera image (as :meth:`render_camera`) and what each pixel shows: pybullet's segmentation
-        label (body id plus (link index + 1) << 24, -1 for the hall), (120, 160) int32. Needs the compiled
-        renderer."""
+        """The robot's camera image as rendered (before the camera profile, which this does not advance) and
+        what each pixel shows: pybullet's segmentation label (body id plus (link index + 1) << 24, -1 for the
+        hall), (120, 160) int32. Needs the compiled renderer."""
         if self._raster is None:
             raise ValueError("camera_labels needs RenderConfig(renderer='numba')")
         images, labels = self._compiled_frames([self.camera_pose(self._check_robot(robot_id))])
@@ -499,6 +524,7 @@ class World:
             if self._teams[rid] is not team:
                 self.set_team_color(rid, team)
         pb.resetBasePositionAndOrientation(self._ball, *poses.ball, physicsClientId=client)
+        self._camera.forget()
 
     def sensors(self, robot_id: str) -> SensorReading:
         return self.sensors_all((robot_id,))[robot_id]

@@ -1,0 +1,306 @@
+"""Camera image profiles: what a robot's camera does to the rendered frame before the robot sees it.
+
+The renderer draws a perfect pinhole image. A profile turns it into the image of a sensor: noise,
+motion blur along the image motion of the control step, the shear of a rolling shutter, vignetting,
+exposure and colour cast that depend on where the camera looks, YUV422 chroma subsampling and lost
+frames. Profiles (:data:`CAMERA_PROFILES`):
+
+- ``clean``: the rendered frame as it is, byte for byte (no work at all).
+- ``robotstadium``: the thesis' simulator (thesis section 3: much less noise than the real camera, but
+  "the image suffers by a bit of distortion when the simulated robot moves"): faint noise and motion
+  blur.
+- ``nao``: the Nao V3/V4 camera as SPL teams describe it: shot and read noise, YUV422, vignetting, an
+  exposure and colour cast that vary with the direction in the hall, motion blur, rolling shutter and
+  an occasional lost frame.
+
+:class:`CameraEffects` holds a world's profile, its random stream and each robot's last frame and
+camera pose; the world calls :meth:`CameraEffects.apply` for every frame it hands a robot.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from world.camera_model import NAO_CAMERA
+from world.errors import UnknownCameraProfileError
+
+NOMINAL_DEPTH_M = 2.0
+"""Depth at which the camera's translation is turned into image motion: about the distance of the
+field features a playing robot looks at (rotation's image motion does not depend on depth)."""
+
+MAX_MOTION_GAP_S = 0.25
+"""A previous frame older than this (the camera was off) gives no image motion."""
+
+
+@dataclass(frozen=True)
+class CameraProfile:
+    """The parameters of a camera profile (levels are 8-bit grey levels, 0-255).
+
+    - ``exposure_s``: the exposure time; the motion blur is the image motion during it.
+    - ``readout_s``: the time the rolling shutter takes from the first row to the last; 0: global shutter.
+    - ``shot_noise``: the variance of the shot noise per level of signal (levels^2 per level): a sensor
+      collects photons, whose count's variance equals its mean.
+    - ``read_noise``: the standard deviation of the signal-independent noise (levels).
+    - ``chroma_noise``: the standard deviation of the noise on U and V (levels), with ``yuv422``.
+    - ``yuv422``: U and V shared by each horizontal pair of pixels, as the YUV422 image a Nao reads.
+    - ``corner_shading``: brightness in the image corners relative to the centre (1: no vignetting),
+      falling off with the square of the distance from the centre.
+    - ``exposure_swing``: the relative change of exposure with the camera's direction in the hall
+      (amplitude).
+    - ``cast_swing``: the relative change of red and blue gains with the direction (amplitude, red and
+      blue in opposition: a white balance that drifts between warm and cold light).
+    - ``lost_frame_probability``: the chance a frame is lost and the previous one is delivered again.
+    """
+
+    name: str
+    exposure_s: float = 0.0
+    readout_s: float = 0.0
+    shot_noise: float = 0.0
+    read_noise: float = 0.0
+    chroma_noise: float = 0.0
+    yuv422: bool = False
+    corner_shading: float = 1.0
+    exposure_swing: float = 0.0
+    cast_swing: float = 0.0
+    lost_frame_probability: float = 0.0
+
+    def __post_init__(self) -> None:
+        for key in ("exposure_s", "readout_s", "shot_noise", "read_noise", "chroma_noise", "exposure_swing",
+                    "cast_swing"):
+            value = getattr(self, key)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and 0.0 <= value):
+                raise ValueError(f"CameraProfile.{key} = {value!r}; expected a finite number >= 0")
+        for key in ("corner_shading", "lost_frame_probability"):
+            value = getattr(self, key)
+            if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
+                raise ValueError(f"CameraProfile.{key} = {value!r}; expected a number in [0, 1]")
+        if self.exposure_swing >= 1.0 or self.cast_swing >= 1.0:
+            raise ValueError(f"CameraProfile swings ({self.exposure_swing}, {self.cast_swing}); expected below 1")
+
+    @property
+    def clean(self) -> bool:
+        """True when the profile leaves every frame as rendered."""
+        return self == CameraProfile(self.name)
+
+
+CLEAN = CameraProfile("clean")
+
+ROBOTSTADIUM = CameraProfile(
+    "robotstadium",
+    # The thesis' simulated camera: "much less noise than the real one": faint Gaussian noise of
+    # 1.5 levels, independent of the signal.
+    read_noise=1.5,
+    # "a bit of distortion when the simulated robot moves": blur over half a 40 ms control step, so a
+    # head turning at 1 rad/s smears the image by about 4 px (focal length 188 px).
+    exposure_s=0.02,
+)
+
+NAO = CameraProfile(
+    "nao",
+    # Exposure under hall lighting: SPL teams run the Nao V4 camera (MT9M114, 30 frames per second) with
+    # short manual exposures of 10-20 ms to limit blur; 16 ms.
+    exposure_s=0.016,
+    # Rolling shutter: the MT9M114 and OV7670 read their rows one after another over most of a 1/30 s
+    # frame (sensor data sheets): 30 ms from the first row to the last.
+    readout_s=0.03,
+    # Shot noise of a small-pixel sensor at indoor gain, and read noise: about 3 levels of Y noise at
+    # mid grey and 1.5 in the dark, as noise measurements of Nao images by SPL teams show.
+    shot_noise=0.06,
+    read_noise=1.5,
+    # Chroma noise of the YUV422 output, averaged over pixel pairs.
+    chroma_noise=2.0,
+    # The Nao delivers YUV422 (YUYV): two pixels share one U and one V.
+    yuv422=True,
+    # Vignetting of the Nao's small wide-angle lens: corners about a quarter darker than the centre, as
+    # SPL teams report and correct for in their colour calibration.
+    corner_shading=0.75,
+    # Auto-exposure and white balance react to the hall: windows, banners and lights differ with the
+    # direction; +-8 % exposure and +-5 % red/blue.
+    exposure_swing=0.08,
+    cast_swing=0.05,
+    # The Nao's camera driver occasionally misses a frame and the motion software reads the previous
+    # buffer again (team reports of V4 frame drops under load): 1 %.
+    lost_frame_probability=0.01,
+)
+
+CAMERA_PROFILES: dict[str, CameraProfile] = {p.name: p for p in (CLEAN, ROBOTSTADIUM, NAO)}
+
+
+def camera_profile(name: object) -> CameraProfile:
+    """The profile called ``name``; :class:`UnknownCameraProfileError` for another name."""
+    if not isinstance(name, str) or name not in CAMERA_PROFILES:
+        raise UnknownCameraProfileError(name, tuple(CAMERA_PROFILES))
+    return CAMERA_PROFILES[name]
+
+
+# ---- per frame ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CameraPose:
+    """A camera's pose when a frame was taken: simulated time (s), which camera (any hashable tag),
+    rotation camera->world (3x3) and position (3,) m."""
+
+    time_s: float
+    camera: object
+    rotation: np.ndarray
+    position: np.ndarray
+
+
+def image_motion_px(previous: CameraPose, current: CameraPose, focal_px: float = NAO_CAMERA.focal_px,
+                    depth_m: float = NOMINAL_DEPTH_M) -> tuple[float, float]:
+    """Where the point seen at the image centre in ``previous`` (at ``depth_m`` along the optical axis)
+    lies in ``current``, relative to the centre: (du, dv) px, u right, v down. It holds the rotation of
+    the head and body (exact at the centre) and their translation (at the nominal depth)."""
+    point = previous.position + depth_m * previous.rotation[:, 2]
+    seen = current.rotation.T @ (point - current.position)
+    z = max(float(seen[2]), 0.1 * depth_m)
+    return focal_px * float(seen[0]) / z, focal_px * float(seen[1]) / z
+
+
+def image_velocity_pxps(previous: CameraPose | None, current: CameraPose) -> tuple[float, float]:
+    """The image motion per second (px/s) between two frames of the same camera at most
+    :data:`MAX_MOTION_GAP_S` apart; zero without such a previous frame."""
+    if previous is None or previous.camera != current.camera:
+        return 0.0, 0.0
+    dt = current.time_s - previous.time_s
+    if not 0.0 < dt <= MAX_MOTION_GAP_S:
+        return 0.0, 0.0
+    du, dv = image_motion_px(previous, current)
+    return du / dt, dv / dt
+
+
+def direction_gains(profile: CameraProfile, rotation: np.ndarray) -> np.ndarray:
+    """Per-channel gains (R, G, B) for a camera looking along ``rotation[:, 2]``: exposure and colour cast,
+    smooth functions of the optical axis' azimuth and elevation in the hall (one period around it)."""
+    axis = rotation[:, 2]
+    azimuth = math.atan2(float(axis[1]), float(axis[0]))
+    down = float(np.clip(-axis[2], -1.0, 1.0))
+    exposure = 1.0 + profile.exposure_swing * (0.7 * math.sin(azimuth + 0.6) + 0.3 * down)
+    cast = profile.cast_swing * math.cos(azimuth - 0.4)
+    return np.array([exposure * (1.0 + cast), exposure, exposure * (1.0 - cast)], np.float32)
+
+
+def shading_map(profile: CameraProfile, height: int = NAO_CAMERA.height_px,
+                width: int = NAO_CAMERA.width_px) -> np.ndarray:
+    """Vignetting, (height, width) float32: 1 at the centre, ``corner_shading`` at the pixel centres of the
+    corners, quadratic in the distance from the centre."""
+    v, u = np.mgrid[0:height, 0:width].astype(np.float64)
+    r2 = (u - (width - 1) / 2.0) ** 2 + (v - (height - 1) / 2.0) ** 2
+    r2_corner = ((width - 1) / 2.0) ** 2 + ((height - 1) / 2.0) ** 2
+    return (1.0 - (1.0 - profile.corner_shading) * r2 / r2_corner).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class FrameEffects:
+    """What a profile does to one frame: blur vector (px over the exposure), rolling-shutter shift (px per
+    row), per-channel gains, the noise key and whether the frame is lost."""
+
+    blur_px: tuple[float, float]
+    shear_px_per_row: tuple[float, float]
+    gains: np.ndarray
+    key: int
+    lost: bool
+
+    @property
+    def taps(self) -> int:
+        """Samples along the blur: about one per pixel of its length, at most :data:`MAX_BLUR_TAPS`."""
+        length = math.hypot(*self.blur_px)
+        return 1 if length < 0.25 else min(MAX_BLUR_TAPS, int(math.ceil(length)) + 1)
+
+
+MAX_BLUR_TAPS = 12
+"""At most this many samples along the blur; a longer blur spaces them more than a pixel apart."""
+
+
+def frame_effects(profile: CameraProfile, velocity_pxps: tuple[float, float], rotation: np.ndarray,
+                  raw: tuple[int, int], height: int = NAO_CAMERA.height_px) -> FrameEffects:
+    """The effects of one frame from the image velocity (px/s), the camera's rotation and two raw 64-bit
+    draws of the camera stream (noise key, lost-frame draw)."""
+    du, dv = velocity_pxps
+    row_s = profile.readout_s / max(height - 1, 1)
+    return FrameEffects(
+        blur_px=(du * profile.exposure_s, dv * profile.exposure_s),
+        shear_px_per_row=(du * row_s, dv * row_s),
+        gains=direction_gains(profile, rotation),
+        key=int(raw[0]),
+        lost=raw[1] < profile.lost_frame_probability * 2.0**64,
+    )
+
+
+def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: FrameEffects,
+                        shade: np.ndarray | None = None) -> np.ndarray:
+    """A new (H, W, 3) uint8 image: ``image`` through ``effects`` (lost frames are the caller's)."""
+    if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3 or image.shape[1] % 2:
+        raise ValueError(f"image of {image.dtype} {image.shape}; expected uint8 (H, W, 3) with W even")
+    from world.camera_kernel import NORMAL_QUANTILES, apply_effects  # numba, loaded with the first frame
+
+    if shade is None:
+        shade = shading_map(profile, image.shape[0], image.shape[1])
+    out = np.empty_like(image)
+    apply_effects(np.ascontiguousarray(image), out, float(effects.blur_px[0]), float(effects.blur_px[1]),
+                  effects.taps, float(effects.shear_px_per_row[0]), float(effects.shear_px_per_row[1]), shade,
+                  effects.gains, float(profile.shot_noise), float(profile.read_noise),
+                  float(profile.chroma_noise), bool(profile.yuv422), np.uint64(effects.key), NORMAL_QUANTILES)
+    return out
+
+
+# ---- a world's cameras ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Seen:
+    pose: CameraPose
+    frame: np.ndarray
+
+
+@dataclass
+class CameraEffects:
+    """A world's camera profile at work: its own random stream and, per robot, the last frame delivered
+    and the camera pose it was taken from (for the image motion and lost frames).
+
+    Every frame of a profile other than ``clean`` draws two raw 64-bit numbers from ``rng``, the world's
+    camera stream, and nothing else does: the physics never depends on the profile.
+    """
+
+    profile: CameraProfile
+    rng: np.random.Generator
+    _seen: dict[str, _Seen] = field(default_factory=dict)
+    _shade: np.ndarray | None = None
+
+    def apply(self, robot_id: str, image: np.ndarray, pose: CameraPose) -> np.ndarray:
+        """The frame robot ``robot_id`` gets for ``image``, rendered from ``pose``."""
+        if self.profile.clean:
+            return image
+        if self._shade is None:
+            self._shade = shading_map(self.profile, image.shape[0], image.shape[1])
+        seen = self._seen.get(robot_id)
+        raw = self.rng.bit_generator.random_raw(2)
+        effects = frame_effects(self.profile, image_velocity_pxps(seen.pose if seen else None, pose),
+                                pose.rotation, (int(raw[0]), int(raw[1])), image.shape[0])
+        if effects.lost and seen is not None:
+            out = seen.frame
+        else:
+            out = apply_frame_effects(self.profile, image, effects, self._shade)
+        self._seen[robot_id] = _Seen(pose, out)
+        return out.copy()
+
+    def forget(self, robot_id: str | None = None) -> None:
+        """Drop the memory of one robot's camera (placed elsewhere), or of every robot's."""
+        if robot_id is None:
+            self._seen.clear()
+        else:
+            self._seen.pop(robot_id, None)
+
+    def save(self) -> tuple[dict, dict]:
+        """The state to :meth:`restore`: the stream's state and the robots' last frames."""
+        return copy.deepcopy(self.rng.bit_generator.state), dict(self._seen)
+
+    def restore(self, state: tuple[dict, dict]) -> None:
+        rng_state, seen = state
+        self.rng.bit_generator.state = copy.deepcopy(rng_state)
+        self._seen = dict(seen)
