@@ -50,9 +50,11 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
                   chroma_sigma, yuv422, key, quantiles):
     """Write into ``out`` (uint8, like ``src``, (H, W, 3), W even) the frame ``src`` as the sensor records it.
 
-    Per pixel (u, v): the mean of ``taps`` bilinear samples of ``src`` (edges repeated) on the segment of
-    the blur vector (``blur_u``, ``blur_v``) px centred on (u, v) shifted by the rolling shutter's
-    (``shear_u``, ``shear_v``) px per row times the row's distance from the centre row; times
+    Per pixel (u, v): the mean of ``taps`` bilinear samples of ``src`` (edges repeated) at the midpoints of
+    equal parts of
+    the blur vector (``blur_u``, ``blur_v``) px centred on (u, v), the rolling shutter displacing the
+    content of row v by (``shear_u``, ``shear_v``) px per row times the row's distance from the centre row
+    (the rows are read one after another while the image moves); times
     ``shade[v, u]`` (vignetting) and ``gains`` (per channel: exposure and colour cast); then, with
     ``yuv422``, converted to YUV (BT.601, full range), U and V averaged over each horizontal pair of
     pixels, noise added (Y: variance ``shot`` * Y + ``read_sigma`` ** 2 levels^2; U and V: ``chroma_sigma``
@@ -84,9 +86,9 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
             row[:] = 0.0
             weight = np.float32(1.0 / taps)
             for k in range(taps):
-                t = (k / (taps - 1) - 0.5) if taps > 1 else 0.0
-                dx = shear_u * (v - centre) + t * blur_u
-                y = min(max(v + shear_v * (v - centre) + t * blur_v, 0.0), h - 1.0)
+                t = (k + 0.5) / taps - 0.5  # the midpoints of equal parts of the exposure
+                dx = t * blur_u - shear_u * (v - centre)  # row v shows what lay shear * (v - centre) back
+                y = min(max(v + t * blur_v - shear_v * (v - centre), 0.0), h - 1.0)
                 ix = int(np.floor(dx))
                 fx = np.float32(dx - ix)
                 y0 = int(y)

@@ -208,9 +208,10 @@ class FrameEffects:
 
     @property
     def taps(self) -> int:
-        """Samples along the blur: about one per pixel of its length, at most :data:`MAX_BLUR_TAPS`."""
+        """Samples along the blur, at most a pixel apart (at most :data:`MAX_BLUR_TAPS`); one below a quarter
+        of a pixel."""
         length = math.hypot(*self.blur_px)
-        return 1 if length < 0.25 else min(MAX_BLUR_TAPS, int(math.ceil(length)) + 1)
+        return 1 if length < 0.25 else min(MAX_BLUR_TAPS, max(2, math.ceil(length)))
 
 
 MAX_BLUR_TAPS = 12
