@@ -2,9 +2,11 @@
 160x120 RGB frame that blurs, shears, shades, subsamples chroma and adds sensor noise.
 
 Numba keeps the compiled function on disk (``cache=True``), like the renderer (:mod:`world.raster`).
-The noise is a counter-based hash of the pixel pair's index and a 64-bit key drawn per frame from the
-world's camera stream, so one key gives one image; each 12-bit piece of a hash picks a quantile of the
-standard normal distribution from :data:`NORMAL_QUANTILES`.
+The noise of a row is the sum of two runs of :data:`NORMAL_BANK`, a fixed table of standard normal
+variates, at offsets hashed from the row and a 64-bit key drawn per frame from the world's camera
+stream, over the square root of 2: one key gives one image, the noise is Gaussian, and a row's noise
+repeats only if both offsets do (one chance in about a billion). Reading runs of a table vectorises;
+a draw per value would cost most of the frame's budget.
 """
 
 from __future__ import annotations
@@ -14,11 +16,23 @@ from statistics import NormalDist
 import numpy as np
 from numba import njit
 
-QUANTILE_BITS = 12
-NORMAL_QUANTILES = np.array([NormalDist().inv_cdf((i + 0.5) / 2**QUANTILE_BITS) for i in range(2**QUANTILE_BITS)],
-                            np.float32)
-"""The standard normal distribution's quantiles at the centres of 4096 equal steps of probability: a
-uniform 12-bit draw indexes a normal variate (variance 0.9994, tails cut at 3.5 sigma)."""
+BANK_SIZE = 2**15
+"""Normal variates in the table (128 kB, cache resident)."""
+
+
+def _normal_bank(size: int) -> np.ndarray:
+    """The standard normal quantiles at the centres of ``size`` equal steps of probability (variance 0.9999,
+    tails cut at 4.2 sigma), in an order fixed by a hash of their index: a table of normal variates that
+    is the same on every machine."""
+    quantiles = np.array([NormalDist().inv_cdf((i + 0.5) / size) for i in range(size)])
+    x = np.arange(size, dtype=np.uint64) * np.uint64(0x9E3779B97F4A7C15)
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    x ^= x >> np.uint64(31)
+    return quantiles[np.argsort(x, kind="stable")].astype(np.float32)
+
+
+NORMAL_BANK = _normal_bank(BANK_SIZE)
 
 
 @njit(cache=True, inline="always")
@@ -39,6 +53,19 @@ def _add_clamped(row, top, bottom, u, ix, w, w00, w01, w10, w11):
 
 
 @njit(cache=True, inline="always")
+def _level(x: np.float32) -> np.uint8:
+    """``x`` rounded to the nearest level and clipped to 0-255."""
+    return np.uint8(min(max(x + np.float32(0.5), np.float32(0.0)), np.float32(255.0)))
+
+
+@njit(cache=True, inline="always")
+def _mix_runs(noise, first, second, scale):
+    """``noise`` = (``first`` + ``second``) * ``scale``, value by value from the runs' starts."""
+    for j in range(noise.shape[0]):
+        noise[j] = (first[j] + second[j]) * scale
+
+
+@njit(cache=True, inline="always")
 def _add_taps(row, top, bottom, w00, w01, w10, w11):
     """Add to every value of ``row`` its bilinear tap: ``top`` and ``bottom`` start at the tap's columns."""
     for j in range(row.shape[0]):
@@ -46,37 +73,37 @@ def _add_taps(row, top, bottom, w00, w01, w10, w11):
 
 
 @njit(cache=True, error_model="numpy")
-def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains, shot, read_sigma,
-                  chroma_sigma, yuv422, key, quantiles):
+def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains, sigma_by_level,
+                  chroma_sigma, yuv422, key, bank):
     """Write into ``out`` (uint8, like ``src``, (H, W, 3), W even) the frame ``src`` as the sensor records it.
 
     Per pixel (u, v): the mean of ``taps`` bilinear samples of ``src`` (edges repeated) at the midpoints of
-    equal parts of
-    the blur vector (``blur_u``, ``blur_v``) px centred on (u, v), the rolling shutter displacing the
-    content of row v by (``shear_u``, ``shear_v``) px per row times the row's distance from the centre row
-    (the rows are read one after another while the image moves); times
-    ``shade[v, u]`` (vignetting) and ``gains`` (per channel: exposure and colour cast); then, with
-    ``yuv422``, converted to YUV (BT.601, full range), U and V averaged over each horizontal pair of
-    pixels, noise added (Y: variance ``shot`` * Y + ``read_sigma`` ** 2 levels^2; U and V: ``chroma_sigma``
-    levels, one draw per pair) and converted back; without it, noise of variance ``shot`` * value +
-    ``read_sigma`` ** 2 on each RGB channel. Rounded and clipped to 0-255.
+    equal parts of the blur vector (``blur_u``, ``blur_v``) px centred on (u, v), the rolling shutter
+    displacing the content of row v by (``shear_u``, ``shear_v``) px per row times the row's distance from
+    the centre row (the rows are read one after another while the image moves); times ``shade[v, u]``
+    (vignetting) and ``gains`` (per channel: exposure and colour cast); then, with ``yuv422``, converted to
+    YUV (BT.601, full range), U and V averaged over each horizontal pair of pixels, noise added (Y: standard
+    deviation ``sigma_by_level`` at Y rounded, levels 0-255; U and V: ``chroma_sigma`` levels, one draw per
+    pair) and converted back; without it, noise of ``sigma_by_level`` at each RGB channel's rounded value.
+    Rounded and clipped to 0-255. The normal variates come from ``bank`` (see the module).
     """
     h, w = src.shape[0], src.shape[1]
     n = 3 * w
     centre = (h - 1) * 0.5
     still = taps <= 1 and shear_u == 0.0 and shear_v == 0.0
     flat = src.reshape(h, n)
+    result = out.reshape(h, n)
     image = np.empty((h, n), np.float32)  # float samples vectorise better than uint8 ones
     if not still:
         for v in range(h):
             for j in range(n):
                 image[v, j] = flat[v, j]
     row = np.empty(n, np.float32)
-    acc = row.reshape(w, 3)
-    read2 = np.float32(read_sigma * read_sigma)
-    shot32 = np.float32(shot)
+    noise = np.empty(n, np.float32)
     chroma32 = np.float32(chroma_sigma)
-    mask = np.uint64(2**12 - 1)
+    span = np.uint64(bank.shape[0] - n)
+    low = np.uint64(0xFFFFFFFF)
+    root_half = np.float32(np.sqrt(0.5))
     for v in range(h):
         # ---- blur and rolling shutter: every tap of a row has the same offset, so the same weights
         if still:
@@ -108,37 +135,28 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
                     _add_taps(row[3 * lo:3 * hi], top[3 * (lo + ix):3 * (hi + ix) + 3],
                               bottom[3 * (lo + ix):3 * (hi + ix) + 3], w00, w01, w10, w11)
         # ---- shading, exposure, cast
+        shade_row = shade[v]
         for u in range(w):
-            s = shade[v, u]
             for c in range(3):
-                acc[u, c] *= s * gains[c]
+                row[3 * u + c] *= shade_row[u] * gains[c]
+        # ---- the row's normal variates: two runs of the bank
+        bits = _hash(key + np.uint64(v + 1) * np.uint64(0x9E3779B97F4A7C15))
+        _mix_runs(noise, bank[(bits & low) % span:], bank[(bits >> np.uint64(32)) % span:], root_half)
         # ---- chroma subsampling and noise, a pair of pixels at a time
-        for u0 in range(0, w, 2):
-            bits = _hash(key + np.uint64(v * w + u0) * np.uint64(0x9E3779B97F4A7C15))
-            if yuv422:
-                r0, g0, b0 = acc[u0, 0], acc[u0, 1], acc[u0, 2]
-                r1, g1, b1 = acc[u0 + 1, 0], acc[u0 + 1, 1], acc[u0 + 1, 2]
+        if yuv422:
+            for j in range(0, n, 6):
+                r0, g0, b0, r1, g1, b1 = row[j], row[j + 1], row[j + 2], row[j + 3], row[j + 4], row[j + 5]
                 cu = np.float32(0.5) * (np.float32(-0.168736) * (r0 + r1) - np.float32(0.331264) * (g0 + g1)
-                                        + np.float32(0.5) * (b0 + b1))
+                                        + np.float32(0.5) * (b0 + b1)) + chroma32 * noise[j + 1]
                 cv = np.float32(0.5) * (np.float32(0.5) * (r0 + r1) - np.float32(0.418688) * (g0 + g1)
-                                        - np.float32(0.081312) * (b0 + b1))
-                cu += chroma32 * quantiles[(bits >> np.uint64(24)) & mask]
-                cv += chroma32 * quantiles[(bits >> np.uint64(36)) & mask]
-                for p in range(2):
-                    u = u0 + p
-                    y = np.float32(0.299) * acc[u, 0] + np.float32(0.587) * acc[u, 1] + np.float32(0.114) * acc[u, 2]
-                    y += np.sqrt(max(shot32 * y, np.float32(0.0)) + read2) * quantiles[(bits >> np.uint64(12 * p)) & mask]
-                    acc[u, 0] = y + np.float32(1.402) * cv
-                    acc[u, 1] = y - np.float32(0.344136) * cu - np.float32(0.714136) * cv
-                    acc[u, 2] = y + np.float32(1.772) * cu
-            else:
-                more = _hash(bits)
-                for p in range(2):
-                    for c in range(3):
-                        i = 3 * p + c
-                        piece = (bits >> np.uint64(12 * i)) & mask if i < 5 else (more & mask)
-                        x = acc[u0 + p, c]
-                        acc[u0 + p, c] = x + np.sqrt(max(shot32 * x, np.float32(0.0)) + read2) * quantiles[piece]
-        for u in range(w):
-            for c in range(3):
-                out[v, u, c] = np.uint8(min(max(acc[u, c] + np.float32(0.5), np.float32(0.0)), np.float32(255.0)))
+                                        - np.float32(0.081312) * (b0 + b1)) + chroma32 * noise[j + 2]
+                for q in range(j, j + 6, 3):
+                    y = np.float32(0.299) * row[q] + np.float32(0.587) * row[q + 1] + np.float32(0.114) * row[q + 2]
+                    y += sigma_by_level[_level(y)] * noise[q]
+                    result[v, q] = _level(y + np.float32(1.402) * cv)
+                    result[v, q + 1] = _level(y - np.float32(0.344136) * cu - np.float32(0.714136) * cv)
+                    result[v, q + 2] = _level(y + np.float32(1.772) * cu)
+        else:
+            for j in range(n):
+                x = row[j]
+                result[v, j] = _level(x + sigma_by_level[_level(x)] * noise[j])

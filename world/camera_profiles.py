@@ -20,6 +20,7 @@ camera pose; the world calls :meth:`CameraEffects.apply` for every frame it hand
 from __future__ import annotations
 
 import copy
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -185,10 +186,19 @@ def direction_gains(profile: CameraProfile, rotation: np.ndarray) -> np.ndarray:
     return np.array([exposure * (1.0 + cast), exposure, exposure * (1.0 - cast)], np.float32)
 
 
+@functools.lru_cache(maxsize=16)
+def noise_sigmas(profile: CameraProfile) -> np.ndarray:
+    """The noise's standard deviation at each signal level 0-255 (levels, float32):
+    sqrt(``shot_noise`` * level + ``read_noise`` ** 2). Shared: not to be written to."""
+    levels = np.arange(256, dtype=np.float64)
+    return np.sqrt(profile.shot_noise * levels + profile.read_noise**2).astype(np.float32)
+
+
+@functools.lru_cache(maxsize=16)
 def shading_map(profile: CameraProfile, height: int = NAO_CAMERA.height_px,
                 width: int = NAO_CAMERA.width_px) -> np.ndarray:
     """Vignetting, (height, width) float32: 1 at the centre, ``corner_shading`` at the pixel centres of the
-    corners, quadratic in the distance from the centre."""
+    corners, quadratic in the distance from the centre. Shared: not to be written to."""
     v, u = np.mgrid[0:height, 0:width].astype(np.float64)
     r2 = (u - (width - 1) / 2.0) ** 2 + (v - (height - 1) / 2.0) ** 2
     r2_corner = ((width - 1) / 2.0) ** 2 + ((height - 1) / 2.0) ** 2
@@ -238,15 +248,15 @@ def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: Fram
     """A new (H, W, 3) uint8 image: ``image`` through ``effects`` (lost frames are the caller's)."""
     if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3 or image.shape[1] % 2:
         raise ValueError(f"image of {image.dtype} {image.shape}; expected uint8 (H, W, 3) with W even")
-    from world.camera_kernel import NORMAL_QUANTILES, apply_effects  # numba, loaded with the first frame
+    from world.camera_kernel import NORMAL_BANK, apply_effects  # numba, loaded with the first frame
 
     if shade is None:
         shade = shading_map(profile, image.shape[0], image.shape[1])
     out = np.empty_like(image)
     apply_effects(np.ascontiguousarray(image), out, float(effects.blur_px[0]), float(effects.blur_px[1]),
                   effects.taps, float(effects.shear_px_per_row[0]), float(effects.shear_px_per_row[1]), shade,
-                  effects.gains, float(profile.shot_noise), float(profile.read_noise),
-                  float(profile.chroma_noise), bool(profile.yuv422), np.uint64(effects.key), NORMAL_QUANTILES)
+                  effects.gains, noise_sigmas(profile), float(profile.chroma_noise), bool(profile.yuv422),
+                  np.uint64(effects.key), NORMAL_BANK)
     return out
 
 

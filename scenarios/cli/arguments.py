@@ -211,6 +211,25 @@ def add_seed(parser: argparse.ArgumentParser, text: str, default: int | None = 0
                         help=f"{text}, 0-{SEED_MAX} (default {shown})")
 
 
+def camera_profile_name(text: str) -> str:
+    """An argparse type: the name of a camera profile (:data:`world.camera_profiles.CAMERA_PROFILES`)."""
+    from world.camera_profiles import CAMERA_PROFILES
+
+    if text not in CAMERA_PROFILES:
+        raise argparse.ArgumentTypeError(f"expected one of {', '.join(CAMERA_PROFILES)}, got {_got(text)}")
+    return text
+
+
+def add_camera_profile(parser: argparse.ArgumentParser, default: str | None = "clean",
+                       default_text: str = "") -> None:
+    """``--camera-profile NAME``: what the robots' cameras do to the rendered frames."""
+    parser.add_argument("--camera-profile", type=camera_profile_name, default=default, metavar="NAME",
+                        help="the cameras' image profile: clean (the rendered frames), robotstadium (the thesis' "
+                             "simulator: faint noise, motion blur) or nao (a Nao V3/V4 camera: sensor noise, YUV422, "
+                             "vignetting, exposure and colour cast, blur, rolling shutter, lost frames); "
+                             f"default {default_text or default}")
+
+
 def add_batch_arguments(parser: argparse.ArgumentParser, unit: str) -> None:
     """``--workers``, ``--backend``, ``--ray-address`` and ``--resume`` of a batch of ``unit`` (e.g. "runs")."""
     parser.add_argument("--workers", type=workers, default=None, metavar="W",

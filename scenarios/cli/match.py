@@ -14,6 +14,7 @@ from scenarios.cli.arguments import (
     EXIT_OK,
     HALF_SECONDS_MAX,
     HALF_SECONDS_MIN,
+    add_camera_profile,
     add_controller_arguments,
     add_out_dir,
     add_seed,
@@ -65,6 +66,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--state-hashes", action="store_true",
                         help="also write state_hashes.txt: each step's number and a hash of the world's state, to "
                              "find the first step at which two runs of the same match differ (on two machines)")
+    add_camera_profile(parser)
     add_controller_arguments(parser)
 
 
@@ -84,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
         summary = run_lineup_match(
             args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
             seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
-            controllers=controller_limits(args), state_hashes=args.state_hashes,
+            controllers=controller_limits(args), state_hashes=args.state_hashes, camera_profile=args.camera_profile,
         )
     except KeyboardInterrupt:
         written = Path(args.out) / "summary.json"

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from scenarios.cli.arguments import (
     EXIT_OK,
+    add_camera_profile,
     add_no_progress,
     add_out_dir,
     add_seed,
@@ -45,6 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"{MAX_RANGE_M[0]:g}-{MAX_RANGE_M[1]:g} m (default 4)")
     parser.add_argument("--examples", type=int_in(0, MAX_EXAMPLES), default=6, metavar="N",
                         help=f"annotated PNGs of frames with a false positive or a miss, 0-{MAX_EXAMPLES} (default 6)")
+    add_camera_profile(parser)
     add_no_progress(parser)
 
 
@@ -52,9 +54,10 @@ def run(args: argparse.Namespace) -> int:
     from scenarios.perception.run import run_perception  # the pipeline, pybullet and matplotlib: only when run
 
     command = (f"robotstadium perception --frames {args.frames} --seed {args.seed} --out {args.out} "
-               f"--crowd {args.crowd} --models {','.join(args.models)} --max-range-m {args.max_range_m:g}")
+               f"--crowd {args.crowd} --models {','.join(args.models)} --max-range-m {args.max_range_m:g} "
+               f"--camera-profile {args.camera_profile}")
     config = PerceptionConfig(args.frames, args.seed, args.crowd, args.models, args.max_range_m,
-                              args.progress, args.examples, command)
+                              args.progress, args.examples, command, args.camera_profile)
     summary = run_perception(args.out, config)
     print((Path(args.out) / "table.md").read_text())
     print(f"{summary['frames']} frames in {summary['wall_seconds']:.1f} s; "

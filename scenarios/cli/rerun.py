@@ -44,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
         raise RerunError(f"--out {out}: holds a match already; give a new directory")
     run_lineup_match(out, plan.lineup, home=plan.home, away=plan.away, half_seconds=plan.half_seconds, seed=plan.seed,
                      shootout=plan.shootout, progress=args.progress, referee=plan.referee,
-                     controllers=plan.controllers)
+                     controllers=plan.controllers, camera_profile=plan.camera_profile)
     difference = compare_matches(original, out)
     record = {"original": str(original), "identical": difference is None, "forced_over": list(plan.warnings),
               "first_difference": dataclasses.asdict(difference) if difference else None}

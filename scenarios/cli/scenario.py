@@ -9,6 +9,7 @@ from scenarios.cli.arguments import (
     EXIT_INTERRUPTED,
     EXIT_OK,
     add_batch_arguments,
+    add_camera_profile,
     add_no_progress,
     add_out_dir,
     add_seed,
@@ -42,6 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--half-seconds", type=half_seconds, default=None, metavar="S",
                         help=f"length of a half of the refereed scenarios, {HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} "
                              "seconds (default: the scenario file's)")
+    add_camera_profile(parser, default=None, default_text="clean")
     add_batch_arguments(parser, "runs")
     add_out_dir(parser, "out/scenarios")
     add_no_progress(parser)
@@ -55,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
     options = batch_options(args)
     try:
         reports = run_named(args.scenarios, args.out, options, samples=args.samples, seed=args.seed,
-                            methods=args.methods, half_seconds=args.half_seconds)
+                            methods=args.methods, half_seconds=args.half_seconds,
+                            camera_profile=args.camera_profile)
     except KeyboardInterrupt:
         print(f"robotstadium scenario: interrupted; finished runs are kept in {args.out}: "
               "run again with --resume to continue", file=sys.stderr)

@@ -39,6 +39,7 @@ from scenarios.localization.run import RunOutcome, RunTask, run_tasks, simulate_
 from scenarios.localization.samples import LocalizationSample
 from scenarios.localization.spec import ScenarioSpec
 from scenarios.localization.statistics import ScenarioReport
+from world.camera_profiles import camera_profile as world_camera_profile
 from scenarios.localization.tables import (
     write_combined_summary_json,
     write_combined_table,
@@ -221,8 +222,9 @@ def scenario_key(name_or_path: str) -> str:
 
 
 def with_overrides(spec: ScenarioSpec, samples: int | None = None, seed: int | None = None,
-                   methods: Sequence[str] | None = None, half_seconds: float | None = None) -> ScenarioSpec:
-    """``spec`` with the command line's samples, seed, methods and half length (s) where given (runs
+                   methods: Sequence[str] | None = None, half_seconds: float | None = None,
+                   camera_profile: str | None = None) -> ScenarioSpec:
+    """``spec`` with the command line's samples, seed, methods, half length (s) and camera profile where given (runs
     capped at samples). A scenario with periodic sampling keeps its samples and methods: its runs
     last a match (``half_seconds`` sets its length) and its robots localize their own way."""
     changes: dict = {}
@@ -240,6 +242,8 @@ def with_overrides(spec: ScenarioSpec, samples: int | None = None, seed: int | N
         changes["methods"] = tuple(methods)
     if half_seconds is not None:
         changes["half_seconds"] = float(half_seconds)
+    if camera_profile is not None:
+        changes["camera_profile"] = world_camera_profile(camera_profile).name  # refused here if unknown
     return dataclasses.replace(spec, **changes)
 
 

@@ -150,11 +150,11 @@ def _policy(robot: RobotEntry, spec: ScenarioSpec, start: Pose2D | None) -> Poli
 
 
 def world_config(spec: ScenarioSpec) -> WorldConfig:
-    """The world of a scenario: the default one with its motion noise scaled."""
+    """The world of a scenario: the default one with its motion noise scaled and its camera profile."""
     noise = MotionNoise()
     scale = spec.motion_noise_scale
     scaled = {f.name: getattr(noise, f.name) * scale for f in dataclasses.fields(MotionNoise)}
-    return WorldConfig(motion_noise=MotionNoise(**scaled))
+    return WorldConfig(motion_noise=MotionNoise(**scaled), camera_profile=spec.camera_profile)
 
 
 def _random_pose(rng: np.random.Generator) -> Pose2D:

@@ -71,7 +71,8 @@ class ScenarioSpec:
     events (one per method); a number of seconds, one sample of each measured robot's own
     pose estimate every ``sample_period_s`` of PLAYING time while it is up, labelled with
     its policy's name, and a run also ends, complete, with the match (``methods`` and
-    ``camera_model`` are not used then).
+    ``camera_model`` are not used then); ``camera_profile``: what the robots' cameras do to the
+    rendered frames (:mod:`world.camera_profiles`).
     """
 
     name: str
@@ -89,6 +90,7 @@ class ScenarioSpec:
     thesis: ThesisReference | None = None
     warmup_seconds: float = 0.0
     sample_period_s: float | None = None
+    camera_profile: str = "clean"
 
     @property
     def measured(self) -> tuple[str, ...]:
@@ -121,6 +123,8 @@ class ScenarioSpec:
         data = dataclasses.asdict(self)
         if data["sample_period_s"] is None:  # event sampling: the fingerprint of the scenarios before periodic sampling
             del data["sample_period_s"]
+        if data["camera_profile"] == "clean":  # the fingerprint of the scenarios before camera profiles
+            del data["camera_profile"]
         text = json.dumps(data, sort_keys=True, default=_plain)
         return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 

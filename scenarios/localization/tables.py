@@ -81,6 +81,7 @@ def scenario_summary(report: ScenarioReport) -> dict:
         "run_seeds": [int(s) for s in report.run_seeds],
         "measured": list(spec.measured),
         "camera_model": spec.camera_model,
+        "camera_profile": spec.camera_profile,
         "wall_seconds": float(report.wall_seconds),
         "sim_seconds": float(report.sim_seconds),
         "versions": dict(report.versions),

@@ -20,6 +20,7 @@ from match.protocol import Policy
 from match.protocol.ids import AgentId, Side, roster
 from match.runner import MatchSummary, run_match
 from scenarios.matches.provenance import lineup_record
+from world.config import WorldConfig
 
 
 ALL_ROBOTS = "all"  # --video all
@@ -82,9 +83,10 @@ def video_robots(requested: Sequence[str], agents: tuple[AgentId, ...]) -> tuple
 
 
 def match_config(home: int = 4, away: int = 4, half_seconds: float = 600.0, shootout: bool = True,
-                 referee: Mapping[str, object] | None = None) -> MatchConfig:
-    """The match of ``home`` against ``away`` robots; ``referee``: other referee settings (RefereeConfig fields)."""
-    config = MatchConfig(home_players=home, away_players=away)
+                 referee: Mapping[str, object] | None = None, camera_profile: str = "clean") -> MatchConfig:
+    """The match of ``home`` against ``away`` robots; ``referee``: other referee settings (RefereeConfig fields);
+    ``camera_profile``: the cameras' image profile (:mod:`world.camera_profiles`)."""
+    config = MatchConfig(home_players=home, away_players=away, world=WorldConfig(camera_profile=camera_profile))
     settings = {**(referee or {}), "half_seconds": half_seconds, "shootout": shootout}
     return replace(config, referee=replace(config.referee, **settings))
 
@@ -104,6 +106,7 @@ def run_lineup_match(
     videos: Sequence[str] = (),
     controllers: ControllerLimits | None = None,
     state_hashes: bool = False,
+    camera_profile: str = "clean",
 ) -> MatchSummary:
     """Play one match of ``home`` against ``away`` robots with the line-up's policies.
 
@@ -112,9 +115,9 @@ def run_lineup_match(
     ids, or ``all``) whose camera videos are written into ``out_dir`` (``video_<agent>.mp4``).
     ``controllers``: the limits of the policies' controller processes; None: the policies run in
     this process. ``state_hashes``: write each step's hash of the world's state (see
-    :func:`~match.runner.run_match`).
+    :func:`~match.runner.run_match`). ``camera_profile``: the cameras' image profile.
     """
-    config = match_config(home, away, half_seconds, shootout, referee)
+    config = match_config(home, away, half_seconds, shootout, referee, camera_profile)
     agents = roster(home, away)
     filmed = video_robots(videos, agents)  # refused here, before the world is built
     if filmed and out_dir is None:

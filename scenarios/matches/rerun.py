@@ -26,6 +26,7 @@ from match.runner import package_versions, plain_json
 from scenarios.matches.play import Lineup
 from scenarios.common.untrusted import SmallFileError, load_json, read_small_file
 from scenarios.matches.provenance import file_hash
+from world.camera_profiles import CAMERA_PROFILES
 
 SUMMARY = "summary.json"
 EVENTS = "events.jsonl"
@@ -54,6 +55,7 @@ class RerunPlan:
     referee: Mapping[str, object]
     controllers: ControllerLimits | None
     warnings: tuple[str, ...] = ()  # differences played through with force
+    camera_profile: str = "clean"
 
 
 @dataclass(frozen=True)
@@ -116,8 +118,17 @@ def rerun_plan(summary: Mapping[str, object], *, force: bool = False, origin: st
         shootout=bool(_field(config, "shootout", bool, origin, "config.")),
         seed=_field(summary, "seed", int, origin), referee=_referee(config.get("referee"), origin),
         controllers=_controllers(_field(played_by, "controllers", dict, origin, "played_by."), origin),
-        warnings=tuple(problems),
+        warnings=tuple(problems), camera_profile=_camera_profile(world, origin),
     )
+
+
+def _camera_profile(world: object, origin: str) -> str:
+    """The recorded cameras' image profile (``clean`` in a record that names none)."""
+    name = world.get("camera_profile", "clean") if isinstance(world, dict) else "clean"
+    if not isinstance(name, str) or name not in CAMERA_PROFILES:
+        raise RerunError(f"{origin}: config.world.camera_profile {str(name)[:40]!r}; expected one of "
+                         f"{', '.join(CAMERA_PROFILES)}")
+    return name
 
 
 def import_roots(summary: Mapping[str, object]) -> tuple[Path, ...]:

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from agents.vision.camera_models import CAMERA_MODELS
 from scenarios.perception.scoring import FrameScore, TrueLandmark
+from world.camera_profiles import CAMERA_PROFILES
 from world.field import Pose2D
 
 CROWD_ORDER: tuple[str, ...] = ("away_0", "home_2", "away_1", "home_3", "away_2", "home_0", "away_3")
@@ -37,6 +38,7 @@ class PerceptionConfig:
     progress: bool = True
     examples: int = 6  # annotated PNGs of frames where the first model erred (false positives first)
     command: str = ""  # the command line, quoted in table.md
+    camera_profile: str = "clean"  # the camera's image profile (world.camera_profiles)
 
     def __post_init__(self) -> None:
         if not isinstance(self.frames, int) or self.frames < 1:
@@ -52,6 +54,9 @@ class PerceptionConfig:
             raise PerceptionConfigError(f"max_range_m must be a positive finite number; got {self.max_range_m!r}")
         if not isinstance(self.examples, int) or self.examples < 0:
             raise PerceptionConfigError(f"examples must be an integer >= 0; got {self.examples!r}")
+        if not isinstance(self.camera_profile, str) or self.camera_profile not in CAMERA_PROFILES:
+            raise PerceptionConfigError(f"camera_profile must be one of {', '.join(CAMERA_PROFILES)}; "
+                                        f"got {self.camera_profile!r}")
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,7 @@ from scenarios.perception.records import (
 from scenarios.perception.scoring import FrameScore, has_error, kind_statistics, match_frame
 from scenarios.perception.truth import project_landmarks, true_landmarks
 from world.camera_model import CameraPosition
-from world.config import RobotSpec
+from world.config import RobotSpec, WorldConfig
 from world.field import FIELD, LandmarkKind, Pose2D
 from world.robot_model import TeamColor
 from world.world import World
@@ -118,7 +118,7 @@ def run_perception(out_dir: Path, config: PerceptionConfig) -> dict:
     records: list[FrameRecord] = []
     false_positive_examples: list[report.Example] = []  # shown first, then frames with misses only
     miss_examples: list[report.Example] = []
-    with World(roster(), seed=config.seed) as world:
+    with World(roster(), WorldConfig(camera_profile=config.camera_profile), seed=config.seed) as world:
         park_others(world, config.crowd)
         for index in tqdm(range(config.frames), desc="perception", unit="frame", disable=not config.progress,
                           dynamic_ncols=True):
@@ -183,6 +183,7 @@ def build_summary(records: list[FrameRecord], config: PerceptionConfig, wall_sec
         "models": {name: kind_statistics((r.scores[name] for r in records), config.max_range_m) for name in config.models},
         "seed": config.seed,
         "crowd": config.crowd,
+        "camera_profile": config.camera_profile,
         "max_range_m": config.max_range_m,
         "fallen_frames": sum(r.fallen for r in records),
         "false_tilt_frames": sum(r.false_tilt for r in records),  # accelerometer tilt off the true one by > 2 deg

@@ -572,6 +572,42 @@ def bench_agent(repeats: int) -> dict[str, float]:
     return metrics
 
 
+# ---- camera profiles -------------------------------------------------------------------------
+
+PROFILE_HEAD_RATE_RADPS = 1.0
+"""The viewer's head turns at this rate between the two frames of the profile benchmark (a head scan's pace):
+about 190 px/s of image motion, so a few pixels of blur and of rolling-shutter shear."""
+
+
+def bench_camera_profiles(repeats: int) -> dict[str, float]:
+    """Each camera profile's pass over a recorded 160x120 frame (:meth:`CameraEffects.apply`: the image motion
+    from the camera pose of the frame before, one control step earlier while the head turns, the per-frame
+    draws, the compiled pass), ``camera_profile_ms_*_<profile>``; the frame is rendered once in the scene of
+    :func:`bench_render`."""
+    from world.camera_profiles import CAMERA_PROFILES, CameraEffects, CameraPose
+
+    with World(team_roster(), WorldConfig()) as world:
+        setup_render_scene(world)
+        before = world.camera_pose(RENDER_VIEWER)
+        world.set_head(RENDER_VIEWER, PROFILE_HEAD_RATE_RADPS * world.config.physics.control_step_s, SCAN_PITCH_RAD)
+        world.step(1)
+        after = world.camera_pose(RENDER_VIEWER)
+        frame = world.render_camera(RENDER_VIEWER).copy()
+    step_s = world.config.physics.control_step_s
+    metrics: dict[str, float] = {}
+    for name, profile in CAMERA_PROFILES.items():
+        effects = CameraEffects(profile, np.random.default_rng(0))
+        first, second = CameraPose(0.0, "top", *before), CameraPose(step_s, "top", *after)
+
+        def still() -> None:  # untimed: the frame before, from which the timed one moved
+            effects.forget()
+            effects.apply(RENDER_VIEWER, frame, first)
+
+        samples = time_ms(lambda: effects.apply(RENDER_VIEWER, frame, second), repeats, RENDER_WARMUP, before=still)
+        metrics.update(_suffixed(summarize("camera_profile", samples), f"_{name}"))
+    return metrics
+
+
 BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("render", "robot camera frame, 160x120, 8 robots in the scene; beside it the reference renderer",
               bench_render),
@@ -588,6 +624,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("agent", "the team agent's act(): without and with a camera frame", bench_agent),
     Benchmark("memory", "consecutive short matches in one process: resident memory after the first, second and last",
               bench_memory),
+    Benchmark("camera_profiles", "each camera profile's pass over a recorded 160x120 frame, the head turning",
+              bench_camera_profiles),
 )
 
 
