@@ -301,3 +301,38 @@ def test_the_profile_does_not_change_the_physics():
         finally:
             match.world.close()
     assert digests["clean"] == digests["nao"]
+
+
+# ---- choosing a profile ------------------------------------------------------------------------
+
+
+@pytest.mark.render
+def test_a_match_records_its_profile_and_a_rerun_plays_it(tmp_path):
+    import json
+
+    from scenarios.matches.play import Lineup, run_lineup_match
+    from scenarios.matches.rerun import rerun_plan
+
+    run_lineup_match(tmp_path, Lineup("stand", "stand"), home=1, away=1, half_seconds=1.0, seed=3, shootout=False,
+                     progress=False, max_steps=5, camera_profile="robotstadium")
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["config"]["world"]["camera_profile"] == "robotstadium"
+    assert rerun_plan(summary).camera_profile == "robotstadium"
+    del summary["config"]["world"]["camera_profile"]  # a record from before the profiles: clean
+    assert rerun_plan(summary).camera_profile == "clean"
+
+
+def test_scenarios_and_perception_take_a_profile_and_refuse_unknown_ones():
+    from scenarios.localization.batch import with_overrides
+    from scenarios.localization.file import load_scenario
+    from scenarios.perception.records import PerceptionConfig, PerceptionConfigError
+
+    spec = load_scenario("1")
+    assert spec.camera_profile == "clean"
+    nao = with_overrides(spec, camera_profile="nao")
+    assert nao.camera_profile == "nao" and nao.fingerprint() != spec.fingerprint()
+    with pytest.raises(UnknownCameraProfileError, match="'fancy'"):
+        with_overrides(spec, camera_profile="fancy")
+    assert PerceptionConfig(1, camera_profile="nao").camera_profile == "nao"
+    with pytest.raises(PerceptionConfigError, match="'fancy'"):
+        PerceptionConfig(1, camera_profile="fancy")

@@ -26,6 +26,7 @@ BAD_DIRS = ("", " ", "a_file", "a_file/sub", "a_file/../sub", "broken", "loop/su
 BAD_FILES = ("", "a_dir", "a_file/sub", "broken", "/proc/x", "/dev/null", "n" * 300, "read_only/x.json")
 
 # (command line up to the flag, the flag, its bad values); the flag's value comes last
+BAD_PROFILES = ("fancy", "", "NAO", "clean,nao")
 TABLE = [
     (["world-demo", "--out", "out"], "--seed", BAD_SEEDS),
     (["world-demo"], "--out", BAD_DIRS),
@@ -45,6 +46,7 @@ TABLE = [
     (["match"], "--controller-per", ("squad", "")),
     (["match"], "--step-budget", ("0", "3601", *BAD_NUMBERS)),
     (["match"], "--controller-memory", ("63", "1e7", *BAD_NUMBERS)),
+    (["match"], "--camera-profile", BAD_PROFILES),
     (["calibrate-colors", "--out", "t.json"], "--frames", ("0", "2001", *BAD_COUNTS)),
     (["calibrate-colors", "--out", "t.json"], "--seed", BAD_SEEDS),
     (["calibrate-colors"], "--out", BAD_FILES),
@@ -55,6 +57,7 @@ TABLE = [
     (["perception", "--frames", "1", "--out", "out"], "--models", ("fisheye", "exact,exact", "")),
     (["perception", "--frames", "1", "--out", "out"], "--max-range-m", ("0.05", "21", *BAD_NUMBERS)),
     (["perception", "--frames", "1", "--out", "out"], "--examples", ("1001", *BAD_COUNTS)),
+    (["perception", "--frames", "1", "--out", "out"], "--camera-profile", BAD_PROFILES),
     (["localize"], "--samples", ("0", "10001", *BAD_COUNTS)),
     (["localize"], "--seed", BAD_SEEDS),
     (["localize"], "--methods", ("kalman", "thesis,thesis", "")),
@@ -64,6 +67,7 @@ TABLE = [
     (["scenario", "1", "--out", "out"], "--half-seconds", ("0.5", "86401", *BAD_NUMBERS)),
     (["scenario", "1", "--out", "out"], "--workers", ("0", "65", *BAD_COUNTS)),
     (["scenario", "1"], "--out", BAD_DIRS),
+    (["scenario", "1", "--out", "out"], "--camera-profile", BAD_PROFILES),
     (["tournament", "scripted", "stand", "--out", "out"], "--matches", ("0", "1001", *BAD_COUNTS)),
     (["tournament", "scripted", "stand", "--out", "out"], "--half-seconds", ("0.5", "86401", *BAD_NUMBERS)),
     (["tournament", "scripted", "stand", "--out", "out"], "--players", ("0", "5", *BAD_COUNTS)),
