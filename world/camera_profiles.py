@@ -82,53 +82,66 @@ class CameraProfile:
         if self.exposure_swing >= 1.0 or self.cast_swing >= 1.0:
             raise ValueError(f"CameraProfile swings ({self.exposure_swing}, {self.cast_swing}); expected below 1")
 
-    @property
+    @functools.cached_property
     def clean(self) -> bool:
         """True when the profile leaves every frame as rendered."""
         return self == CameraProfile(self.name)
 
 
 CLEAN = CameraProfile("clean")
+"""The rendered frames as they are."""
 
-ROBOTSTADIUM = CameraProfile(
-    "robotstadium",
-    # The thesis' simulated camera: "much less noise than the real one": faint Gaussian noise of
-    # 1.5 levels, independent of the signal.
-    read_noise=1.5,
-    # "a bit of distortion when the simulated robot moves": blur over half a 40 ms control step, so a
-    # head turning at 1 rad/s smears the image by about 4 px (focal length 188 px).
-    exposure_s=0.02,
-)
+ROBOTSTADIUM = CameraProfile("robotstadium", read_noise=1.5, exposure_s=0.02)
+"""The thesis' simulator (RobotStadium, thesis section 3):
+
+- ``read_noise`` 1.5 levels, Gaussian, independent of the signal and of the channel: the thesis
+  describes the simulated camera as having much less noise than the real one; faint grain, no shot noise.
+- ``exposure_s`` 0.02 (half a 40 ms control step): "the image suffers by a bit of distortion when the
+  simulated robot moves ... in an attempt to resemble the distortion of the real camera": a head turning
+  at 1 rad/s (about 190 px/s at the 188 px focal length) smears the image by about 4 px, a standing robot
+  not at all.
+"""
 
 NAO = CameraProfile(
     "nao",
-    # Exposure under hall lighting: SPL teams run the Nao V4 camera (MT9M114, 30 frames per second) with
-    # short manual exposures of 10-20 ms to limit blur; 16 ms.
     exposure_s=0.016,
-    # Rolling shutter: the MT9M114 and OV7670 read their rows one after another over most of a 1/30 s
-    # frame (sensor data sheets): 30 ms from the first row to the last.
     readout_s=0.03,
-    # Shot noise of a small-pixel sensor at indoor gain, and read noise: about 3 levels of Y noise at
-    # mid grey and 1.5 in the dark, as noise measurements of Nao images by SPL teams show.
     shot_noise=0.06,
     read_noise=1.5,
-    # Chroma noise of the YUV422 output, averaged over pixel pairs.
     chroma_noise=2.0,
-    # The Nao delivers YUV422 (YUYV): two pixels share one U and one V.
     yuv422=True,
-    # Vignetting of the Nao's small wide-angle lens: corners about a quarter darker than the centre, as
-    # SPL teams report and correct for in their colour calibration.
     corner_shading=0.75,
-    # Auto-exposure and white balance react to the hall: windows, banners and lights differ with the
-    # direction; +-8 % exposure and +-5 % red/blue.
     exposure_swing=0.08,
     cast_swing=0.05,
-    # The Nao's camera driver occasionally misses a frame and the motion software reads the previous
-    # buffer again (team reports of V4 frame drops under load): 1 %.
     lost_frame_probability=0.01,
 )
+"""The Nao V3/V4 camera (OV7670 in the V3, Aptina MT9M114 in the V4: small-pixel CMOS sensors with an
+electronic rolling shutter, 30 frames per second, YUV422 output), as SPL teams describe it in their team
+reports and code releases:
+
+- ``exposure_s`` 0.016: teams fix the exposure by hand under hall lighting and keep it short (of the order
+  of 10-20 ms) to limit motion blur.
+- ``readout_s`` 0.03: a rolling shutter reads the rows one after another over most of the 1/30 s frame
+  (the sensors' data sheets), so a turning head shears the image.
+- ``shot_noise`` 0.06 levels^2 per level and ``read_noise`` 1.5 levels: photon shot noise (variance
+  proportional to the signal) plus signal-independent read noise; about 3 levels of luma noise at mid grey
+  and 1.5 in the dark, an estimate of the visible grain of a small-pixel sensor at indoor gain.
+- ``chroma_noise`` 2 levels on U and V, after the pair averaging: colour noise that makes single pixels
+  of the carpet and lines change colour class (an estimate).
+- ``yuv422`` True: the Nao's image is YUYV, each horizontal pair of pixels sharing one U and one V.
+- ``corner_shading`` 0.75: the lens shading of the wide-angle Nao lens, corners about a quarter darker
+  than the centre, which teams correct for in their colour calibration (an estimate).
+- ``exposure_swing`` 0.08 and ``cast_swing`` 0.05: automatic exposure and white balance that react to what
+  the camera looks at in the hall (windows, banners, lights): +-8 % brightness and +-5 % red against blue,
+  smooth in the direction (an estimate).
+- ``lost_frame_probability`` 0.01: a frame the software misses (a cognition cycle that overruns a 30 fps
+  camera reads the previous buffer again): one in a hundred (an estimate).
+"""
 
 CAMERA_PROFILES: dict[str, CameraProfile] = {p.name: p for p in (CLEAN, ROBOTSTADIUM, NAO)}
+
+DEFAULT_CAMERA_PROFILE = "clean"
+"""The profile of a world, a match, a perception run or a scenario that names none."""
 
 
 def camera_profile(name: object) -> CameraProfile:
@@ -243,15 +256,13 @@ def frame_effects(profile: CameraProfile, velocity_pxps: tuple[float, float], ro
     )
 
 
-def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: FrameEffects,
-                        shade: np.ndarray | None = None) -> np.ndarray:
+def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: FrameEffects) -> np.ndarray:
     """A new (H, W, 3) uint8 image: ``image`` through ``effects`` (lost frames are the caller's)."""
     if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3 or image.shape[1] % 2:
         raise ValueError(f"image of {image.dtype} {image.shape}; expected uint8 (H, W, 3) with W even")
     from world.camera_kernel import NORMAL_BANK, apply_effects  # numba, loaded with the first frame
 
-    if shade is None:
-        shade = shading_map(profile, image.shape[0], image.shape[1])
+    shade = shading_map(profile, image.shape[0], image.shape[1])
     out = np.empty_like(image)
     apply_effects(np.ascontiguousarray(image), out, float(effects.blur_px[0]), float(effects.blur_px[1]),
                   effects.taps, float(effects.shear_px_per_row[0]), float(effects.shear_px_per_row[1]), shade,
@@ -281,14 +292,11 @@ class CameraEffects:
     profile: CameraProfile
     rng: np.random.Generator
     _seen: dict[str, _Seen] = field(default_factory=dict)
-    _shade: np.ndarray | None = None
 
     def apply(self, robot_id: str, image: np.ndarray, pose: CameraPose) -> np.ndarray:
         """The frame robot ``robot_id`` gets for ``image``, rendered from ``pose``."""
         if self.profile.clean:
             return image
-        if self._shade is None:
-            self._shade = shading_map(self.profile, image.shape[0], image.shape[1])
         seen = self._seen.get(robot_id)
         raw = self.rng.bit_generator.random_raw(2)
         effects = frame_effects(self.profile, image_velocity_pxps(seen.pose if seen else None, pose),
@@ -296,7 +304,7 @@ class CameraEffects:
         if effects.lost and seen is not None:
             out = seen.frame
         else:
-            out = apply_frame_effects(self.profile, image, effects, self._shade)
+            out = apply_frame_effects(self.profile, image, effects)
         self._seen[robot_id] = _Seen(pose, out)
         return out.copy()
 

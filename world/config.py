@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 from dataclasses import field as default
 
-from world.camera_profiles import camera_profile
+from world.camera_profiles import DEFAULT_CAMERA_PROFILE, camera_profile
 from world.field import FIELD, FieldGeometry
 from world.locomotion import BalanceConfig
 from world.motions import MotionNoise, WalkLimits
@@ -125,7 +125,7 @@ class WorldConfig:
     sonar: SonarConfig = default(default_factory=SonarConfig)
     imu_noise: ImuNoise = default(default_factory=ImuNoise)
     off_world_margin_m: float = 1.0  # placements may reach this far beyond the carpet
-    camera_profile: str = "clean"
+    camera_profile: str = DEFAULT_CAMERA_PROFILE
 
     def __post_init__(self) -> None:
         camera_profile(self.camera_profile)  # UnknownCameraProfileError names the value and the profiles

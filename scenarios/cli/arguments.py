@@ -220,14 +220,15 @@ def camera_profile_name(text: str) -> str:
     return text
 
 
-def add_camera_profile(parser: argparse.ArgumentParser, default: str | None = "clean",
-                       default_text: str = "") -> None:
-    """``--camera-profile NAME``: what the robots' cameras do to the rendered frames."""
-    parser.add_argument("--camera-profile", type=camera_profile_name, default=default, metavar="NAME",
+def add_camera_profile(parser: argparse.ArgumentParser, default_text: str = "") -> None:
+    """``--camera-profile NAME``: what the robots' cameras do to the rendered frames (None when not given)."""
+    from world.camera_profiles import DEFAULT_CAMERA_PROFILE
+
+    parser.add_argument("--camera-profile", type=camera_profile_name, default=None, metavar="NAME",
                         help="the cameras' image profile: clean (the rendered frames), robotstadium (the thesis' "
                              "simulator: faint noise, motion blur) or nao (a Nao V3/V4 camera: sensor noise, YUV422, "
                              "vignetting, exposure and colour cast, blur, rolling shutter, lost frames); "
-                             f"default {default_text or default}")
+                             f"default {default_text or DEFAULT_CAMERA_PROFILE}")
 
 
 def add_batch_arguments(parser: argparse.ArgumentParser, unit: str) -> None:

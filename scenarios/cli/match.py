@@ -75,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
     from match.runner import STATE_HASHES
     from scenarios.matches.play import Lineup, run_lineup_match, video_robots
     from scenarios.matches.video import video_name
+    from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 
     robots = [robot for robot, _ in args.policy]
     twice = sorted({robot for robot in robots if robots.count(robot) > 1})
@@ -86,7 +87,8 @@ def run(args: argparse.Namespace) -> int:
         summary = run_lineup_match(
             args.out, lineup, home=args.home_players, away=args.away_players, half_seconds=args.half_seconds,
             seed=args.seed, shootout=args.shootout, progress=args.progress, videos=args.video,
-            controllers=controller_limits(args), state_hashes=args.state_hashes, camera_profile=args.camera_profile,
+            controllers=controller_limits(args), state_hashes=args.state_hashes,
+            camera_profile=args.camera_profile or DEFAULT_CAMERA_PROFILE,
         )
     except KeyboardInterrupt:
         written = Path(args.out) / "summary.json"

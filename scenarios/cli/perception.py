@@ -17,6 +17,7 @@ from scenarios.cli.arguments import (
     number_in,
 )
 from scenarios.perception.records import MAX_CROWD, PerceptionConfig
+from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 
 NAME = "perception"
 HELP = "score the vision pipeline's landmark percepts against ground truth"
@@ -53,11 +54,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from scenarios.perception.run import run_perception  # the pipeline, pybullet and matplotlib: only when run
 
+    profile = args.camera_profile or DEFAULT_CAMERA_PROFILE
     command = (f"robotstadium perception --frames {args.frames} --seed {args.seed} --out {args.out} "
                f"--crowd {args.crowd} --models {','.join(args.models)} --max-range-m {args.max_range_m:g} "
-               f"--camera-profile {args.camera_profile}")
+               f"--camera-profile {profile}")
     config = PerceptionConfig(args.frames, args.seed, args.crowd, args.models, args.max_range_m,
-                              args.progress, args.examples, command, args.camera_profile)
+                              args.progress, args.examples, command, profile)
     summary = run_perception(args.out, config)
     print((Path(args.out) / "table.md").read_text())
     print(f"{summary['frames']} frames in {summary['wall_seconds']:.1f} s; "

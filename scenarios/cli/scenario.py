@@ -43,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--half-seconds", type=half_seconds, default=None, metavar="S",
                         help=f"length of a half of the refereed scenarios, {HALF_SECONDS_MIN:g}-{HALF_SECONDS_MAX:g} "
                              "seconds (default: the scenario file's)")
-    add_camera_profile(parser, default=None, default_text="clean")
+    add_camera_profile(parser)
     add_batch_arguments(parser, "runs")
     add_out_dir(parser, "out/scenarios")
     add_no_progress(parser)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 from world.field import Pose2D
 
 
@@ -90,7 +91,7 @@ class ScenarioSpec:
     thesis: ThesisReference | None = None
     warmup_seconds: float = 0.0
     sample_period_s: float | None = None
-    camera_profile: str = "clean"
+    camera_profile: str = DEFAULT_CAMERA_PROFILE
 
     @property
     def measured(self) -> tuple[str, ...]:

@@ -20,6 +20,7 @@ from match.protocol import Policy
 from match.protocol.ids import AgentId, Side, roster
 from match.runner import MatchSummary, run_match
 from scenarios.matches.provenance import lineup_record
+from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 from world.config import WorldConfig
 
 
@@ -83,7 +84,8 @@ def video_robots(requested: Sequence[str], agents: tuple[AgentId, ...]) -> tuple
 
 
 def match_config(home: int = 4, away: int = 4, half_seconds: float = 600.0, shootout: bool = True,
-                 referee: Mapping[str, object] | None = None, camera_profile: str = "clean") -> MatchConfig:
+                 referee: Mapping[str, object] | None = None,
+                 camera_profile: str = DEFAULT_CAMERA_PROFILE) -> MatchConfig:
     """The match of ``home`` against ``away`` robots; ``referee``: other referee settings (RefereeConfig fields);
     ``camera_profile``: the cameras' image profile (:mod:`world.camera_profiles`)."""
     config = MatchConfig(home_players=home, away_players=away, world=WorldConfig(camera_profile=camera_profile))
@@ -106,7 +108,7 @@ def run_lineup_match(
     videos: Sequence[str] = (),
     controllers: ControllerLimits | None = None,
     state_hashes: bool = False,
-    camera_profile: str = "clean",
+    camera_profile: str = DEFAULT_CAMERA_PROFILE,
 ) -> MatchSummary:
     """Play one match of ``home`` against ``away`` robots with the line-up's policies.
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from agents.vision.camera_models import CAMERA_MODELS
 from scenarios.perception.scoring import FrameScore, TrueLandmark
-from world.camera_profiles import CAMERA_PROFILES
+from world.camera_profiles import CAMERA_PROFILES, DEFAULT_CAMERA_PROFILE
 from world.field import Pose2D
 
 CROWD_ORDER: tuple[str, ...] = ("away_0", "home_2", "away_1", "home_3", "away_2", "home_0", "away_3")
@@ -38,7 +38,7 @@ class PerceptionConfig:
     progress: bool = True
     examples: int = 6  # annotated PNGs of frames where the first model erred (false positives first)
     command: str = ""  # the command line, quoted in table.md
-    camera_profile: str = "clean"  # the camera's image profile (world.camera_profiles)
+    camera_profile: str = DEFAULT_CAMERA_PROFILE  # the camera's image profile (world.camera_profiles)
 
     def __post_init__(self) -> None:
         if not isinstance(self.frames, int) or self.frames < 1:
