@@ -1,4 +1,5 @@
-"""Compile the renderer's machine code into numba's cache once: ``python -m world.raster.compile``.
+"""Compile the renderer's machine code (and the camera profiles' pass) into numba's cache once:
+``python -m world.raster.compile``.
 
 ``make install`` runs it, so that no match, test or benchmark pays for the compilation (once
 per install or change of these sources; later processes load the cached code).
@@ -13,9 +14,9 @@ log = logging.getLogger(__name__)
 
 
 def compile_renderer() -> float:
-    """Draw a frame of every kind (one camera, several on threads and on one, the broadcast view) in a
-    small world; return the seconds it took."""
-    from world.config import RobotSpec
+    """Draw a frame of every kind (one camera, several on threads and on one, the broadcast view, a camera
+    profile's frame) in a small world; return the seconds it took."""
+    from world.config import RobotSpec, WorldConfig
     from world.teams import TeamColor
     from world.world import World
 
@@ -28,6 +29,8 @@ def compile_renderer() -> float:
             renderer.parallel = parallel
             dict(world.render_cameras(world.robot_ids))
         world.render_overview()
+    with World([RobotSpec("a", TeamColor.BLUE)], WorldConfig(camera_profile="nao")) as profiled:
+        profiled.render_camera("a")
     return time.perf_counter() - started
 
 
