@@ -26,6 +26,7 @@ from typing import Any
 
 from agents.behavior import paths, skills
 from agents.behavior.unjam import Unjammer
+from agents.modelling.ball_model import to_field
 from agents.observation import Observation
 from agents.team.behavior.requests import BehaviorOutput
 from agents.team.behavior.root import Behavior
@@ -138,8 +139,9 @@ class TeamAgent:
         time to the ball are those of before the fall) nor take its sightings."""
         robot = world.robot
         pose, ball = robot.pose_field, None
-        if self.world.ball.relative() is not None:
-            ball = self.world.ball.in_field((pose.x, pose.y, pose.theta), robot.sigma_m, robot.sigma_rad)
+        torso = world.ball.torso if world.ball is not None else self.world.ball.relative()
+        if torso is not None:
+            ball = to_field(torso, (pose.x, pose.y, pose.theta), robot.sigma_m, robot.sigma_rad)
         self.sequence += 1
         return TeamMessage(
             player=self.player, sequence=self.sequence, pose=(pose.x, pose.y, pose.theta),
