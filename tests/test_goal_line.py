@@ -9,8 +9,8 @@ import pytest
 from agents.behavior.goal_line import HOLD_NEAR_M, at_own_goal_line, hold_off, hold_pose
 from agents.behavior.skills import ARRIVED_M
 from agents.modelling.ball_model import BallEstimate
+from agents.radio import Intention
 from agents.team.agent import TeamAgent
-from agents.team.messages import Intention
 from match.protocol import Motion, Pose2D
 from tests.team_scene import strike
 from world.field import FIELD

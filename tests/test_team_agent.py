@@ -11,8 +11,8 @@ import pytest
 from agents.modelling.ball_model import BallEstimate
 from agents.policies import make_policy
 from agents.behavior.skills import LONE_SILENCE_S
+from agents.radio import Role, TeamMessage
 from agents.team.agent import TeamAgent
-from agents.team.messages import Role, TeamMessage
 from agents.team.params import TeamParams
 from match.free_play import FreePlay
 from match.game import MatchConfig
@@ -722,7 +722,7 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
     from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S
     from agents.team.behavior.geometry import relative as _relative
     from agents.team.behavior.set_plays.ball_out import wait_pose
-    from agents.team.messages import Intention
+    from agents.radio import Intention
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)  # rests 2 m on, the path crosses the line at x = 0.5
     pose = Pose2D(0.2, 0.8, 0.0)
@@ -798,7 +798,7 @@ def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does
     """Standing up, a striker's role and time to the ball are those of before its fall: its messages say it
     is down, as while it lay, so that a teammate does not leave the ball to it."""
     from agents.observation import MOTIONS
-    from agents.team.messages import decode
+    from agents.radio import decode
 
     agent = TeamAgent()
     agent.reset("home_1", 0)

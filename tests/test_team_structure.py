@@ -14,12 +14,12 @@ from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
+from agents.radio import Intention, Role, TeamMessage
 from agents.team.agent import TeamAgent
 from agents.team.behavior.framework import Option, deck
 from agents.team.behavior.roles.assignment import assign, lone
 from agents.team.behavior.roles.registry import REGISTRY, RoleSpec, register
 from agents.team.behavior.root import Behavior
-from agents.team.messages import Intention, Role, TeamMessage
 from agents.team.modelling.game import GameProvider
 from agents.team.modelling.modeller import WorldModeller
 from agents.team.modelling.representations import TeamState

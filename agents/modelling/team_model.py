@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate
-from agents.team.messages import TeamMessage
+from agents.radio import TeamMessage
 
 MESSAGE_TIMEOUT_S = 2.0
 BALL_TIMEOUT_S = 4.0  # a ball older than this is no ball

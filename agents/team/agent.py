@@ -28,9 +28,9 @@ from agents.behavior import paths, skills
 from agents.behavior.unjam import Unjammer
 from agents.modelling.ball_model import to_field
 from agents.observation import Observation
+from agents.radio import Role, TeamMessage
 from agents.team.behavior.requests import BehaviorOutput
 from agents.team.behavior.root import Behavior
-from agents.team.messages import Role, TeamMessage
 from agents.team.modelling.modeller import WorldModeller
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams

@@ -15,7 +15,7 @@ from agents.modelling.ball_model import BallModel as BallFilter
 from agents.modelling.obstacle_model import ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.observation import Observation
-from agents.team.messages import Intention
+from agents.radio import Intention
 from agents.team.modelling.ball import own_ball
 from agents.team.modelling.game import GameProvider
 from agents.team.modelling.odometry import OdometryProvider

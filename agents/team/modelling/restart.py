@@ -14,7 +14,7 @@ import math
 
 from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, expected_spot, leaving_point
 from agents.modelling.ball_model import BallEstimate
-from agents.team.messages import Intention
+from agents.radio import Intention
 from agents.team.modelling.representations import GameSituation, PlayStatus, TeamState
 from agents.team.params import TeamParams
 from match.protocol import GoalColor

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from agents.behavior import skills
 from agents.behavior.roles import FIELD_ROLES, Candidate, assign_role, time_to_ball
-from agents.team.messages import Role
+from agents.radio import Role
 from agents.team.modelling.representations import WorldModel
 
 

@@ -6,10 +6,10 @@ from collections.abc import Callable
 
 from agents.behavior import skills
 from agents.behavior.roles import position_from_spot
+from agents.radio import Intention
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.roles.registry import Situation
 from agents.team.behavior.set_plays.kickoff_lane import HOLD, holds_lane
-from agents.team.messages import Intention
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
 

@@ -16,12 +16,12 @@ from __future__ import annotations
 
 from agents.behavior import skills
 from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
+from agents.radio import Intention
 from agents.team.behavior.kick_rules import may_kick, own_goal_seen_lately
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.set_plays.first_touch import first_touch
 from agents.team.behavior.set_plays.throw_in import ThrowInTouch
 from agents.team.behavior.striker.context import StrikeContext
-from agents.team.messages import Intention
 from agents.team.params import TeamParams
 from match.protocol import Motion
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from agents.behavior.goal_line import at_own_goal_line, hold_off
 from agents.modelling.ball_out import out_of_field
+from agents.radio import Intention
 from agents.team.behavior.framework import deck
 from agents.team.behavior.geometry import heading_error, in_field, into_field
 from agents.team.behavior.requests import MotionRequest
@@ -23,7 +24,6 @@ from agents.team.behavior.striker.context import StrikeContext
 from agents.team.behavior.striker.open_play import ApproachTeamBall, Chase, GoBehind, StalledPush
 from agents.team.behavior.striker.search import search
 from agents.team.behavior.striker.targeting import Targeting
-from agents.team.messages import Intention
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
 from world.field import FIELD
