@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 
 from agents.behavior import skills
-from agents.behavior.roles import supporter_spot
+from agents.behavior.tactics.roles import supporter_spot
 from agents.modelling.obstacle_model import ObstacleKind
 from agents.radio import Intention, Role, register_role_code
 from agents.team.agent import TeamAgent

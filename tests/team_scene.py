@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from agents.behavior.aim import Aim
+from agents.behavior.tactics.aim import Aim
 from agents.modelling.ball_model import BallEstimate
 from agents.radio import Intention
 from agents.team.agent import TeamAgent

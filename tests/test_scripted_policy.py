@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from agents.vision.ball import find_ball
-from agents.behavior.scripted import LONE_SILENCE_STEPS, ScriptedPlayer, decode_reports
+from agents.behavior.policies.scripted import LONE_SILENCE_STEPS, ScriptedPlayer, decode_reports
 from agents.observation import RadioPacket
 from agents.radio import Intention, Role, TeamMessage, decode
 from match.protocol import (

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.behavior.tactics.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.modelling.ball_absence import MISS_WINDOW_S, MISSES_TO_FORGET, BallAbsence, in_clear_view, in_view
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate, BallModel
 from agents.modelling.obstacle_model import Obstacle, ObstacleKind

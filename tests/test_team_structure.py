@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from agents.behavior.roles import FIELD_ROLES
+from agents.behavior.tactics.roles import FIELD_ROLES
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
@@ -202,7 +202,8 @@ def test_a_team_agent_plays_another_parameter_set() -> None:
 
 
 def test_the_team_and_scripted_policies_share_the_lone_goalkeeper_rule() -> None:
-    from agents.behavior import scripted, skills
+    from agents.behavior import skills
+    from agents.behavior.policies import scripted
 
     assert skills.plays_alone(0, skills.LONE_SILENCE_S) and not skills.plays_alone(0, skills.LONE_SILENCE_S - 0.04)
     assert not skills.plays_alone(1, 60.0)  # field players play the field anyway

@@ -12,7 +12,7 @@ A composition of three stages, each step (40 ms), from the observation only:
    a motion, the head and camera, and the radio's role and intention.
 
 The composition then steers a walk around the obstacles (not the striker's near its ball), escapes a
-lock with another robot (:mod:`agents.behavior.unjam`), and sends the radio message every
+lock with another robot (:mod:`agents.behavior.tactics.unjam`), and sends the radio message every
 :data:`RADIO_EVERY_STEPS` steps and a camera frame every :data:`CAMERA_EVERY_STEPS`. The tunable numbers
 are :mod:`agents.team.params`'s (``params``). Variants: the localization method (``method``) and
 ``avoid_obstacles`` (False: the "blind" player of the thesis' scenario 3).
@@ -24,8 +24,9 @@ import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
-from agents.behavior import paths, skills
-from agents.behavior.unjam import Unjammer
+from agents.behavior import skills
+from agents.behavior.skills import paths
+from agents.behavior.tactics.unjam import Unjammer
 from agents.modelling.ball_model import to_field
 from agents.observation import Observation
 from agents.radio import Role, TeamMessage

@@ -14,7 +14,7 @@ import math
 from collections.abc import Sequence
 
 from agents.behavior import skills
-from agents.behavior.roles import FIELD_ROLES
+from agents.behavior.tactics.roles import FIELD_ROLES
 from agents.radio import Intention, Role
 from agents.team.behavior.framework import Option
 from agents.team.behavior.head import HeadControl

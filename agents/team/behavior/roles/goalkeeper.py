@@ -3,7 +3,7 @@ in its own goal area (``keeper.clear_ball_within_m``, ``keeper.clear_area_depth_
 
 from __future__ import annotations
 
-from agents.behavior.roles import goalkeeper_spot
+from agents.behavior.tactics.roles import goalkeeper_spot
 from agents.radio import Role
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.roles.positioning import Positioning

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from agents.behavior.roles import supporter_spot
+from agents.behavior.tactics.roles import supporter_spot
 from agents.radio import Role
 from agents.team.behavior.roles.positioning import Positioning
 from agents.team.behavior.roles.registry import RoleSpec, register

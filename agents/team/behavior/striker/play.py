@@ -2,7 +2,7 @@
 
 Without any ball it searches (:mod:`.search`); a ball going out is waited for behind the spot it comes
 back on (:mod:`agents.team.behavior.set_plays.ball_out`); a ball lying at the own goal line in front of
-the goal is held off (no way behind it but through the goal, :mod:`agents.behavior.goal_line`). Else it
+the goal is held off (no way behind it but through the goal, :mod:`agents.behavior.tactics.goal_line`). Else it
 aims (:mod:`.targeting`) and plays the cards in order: the throw-in's first touches
 (:mod:`agents.team.behavior.set_plays`) and open play (:mod:`.open_play`). The goalkeeper clears a ball
 near it with the same option.
@@ -10,7 +10,7 @@ near it with the same option.
 
 from __future__ import annotations
 
-from agents.behavior.goal_line import at_own_goal_line, hold_off
+from agents.behavior.tactics.goal_line import at_own_goal_line, hold_off
 from agents.modelling.ball_out import out_of_field
 from agents.radio import Intention
 from agents.team.behavior.framework import deck
