@@ -2,24 +2,26 @@
 
 Each trial is a free-play match (:mod:`match.free_play`: always PLAYING, no referee) of three robots.
 The home team defends the blue goal (x = -3 m): ``home_0``, its goalkeeper, stands on its line and
-``home_1`` 0.95 m from the ball toward the middle of the field, both played by ``--defenders``;
-``away_1``, played by ``--attacker``, stands 0.72 m from the ball on its side-line side. The robots face
-the ball and are told where they stand (the team agent's pose is set where the drill put it, as the
-kick-off does). The ball lies at a seeded spot :data:`BALL_DEPTH_M` from the goal line and
+``home_1``, both played by ``--defenders``, :data:`DEFENDER_M` from the ball; ``away_1``, played by
+``--attacker``, :data:`ATTACKER_M` from it; each on the field side of the ball, in a seeded direction
+within :data:`START_SPREAD_DEG` of the one straight into the field, at least :data:`APART_M` apart. The
+robots face the ball and are told where they stand (the team agent's pose is set where the drill put
+it, as the kick-off does). The ball lies at a seeded spot :data:`BALL_DEPTH_M` from the goal line and
 :data:`BALL_Y_M` from the field's long axis, beside the goal: the place of the team agent's clear-line
 set play (``[clear_line]`` in ``agents/team/params.toml``).
 
-A trial ends when the ball is in the home goal (``goal``: against the defenders), over the end line
-beside it or over a side line (``out``), :data:`CLEARED_M` from the goal's centre (``cleared``), or
-after ``--seconds`` (``none``). The world's ground truth decides the outcome; the policies see only
+A trial ends when the ball is in the home goal (``goal``: against the defenders), over the home end
+line beside it (``out_end``: the attackers' restart near the goal), over a side line or the far end
+line (``out_side``), out of the danger zone in front of the goal (``cleared``: :data:`DANGER_DEPTH_M`
+from the goal line or :data:`DANGER_HALF_WIDTH_M` from the long axis), or after ``--seconds`` (``none``). The world's ground truth decides the outcome; the policies see only
 their observations. It prints one line per trial and writes ``results.json`` into ``--out`` (every
-trial's ball spot, outcome and time; the goals' share with its 95% Wilson interval). The set play on
-and off, the same seeds:
+trial's ball spot, outcome and time; the goals' share with its 95% Wilson interval). The set play off
+(as shipped) and on, the same seeds:
 
-    python examples/goal_line_drill.py --trials 30 --seed 0 --out out/goal_line_on
-    python examples/goal_line_drill.py --defenders team:off.toml --trials 30 --seed 0 --out out/goal_line_off
+    python examples/goal_line_drill.py --trials 40 --seed 0 --out out/goal_line_off
+    python examples/goal_line_drill.py --defenders team:on.toml --trials 40 --seed 0 --out out/goal_line_on
 
-with ``off.toml`` holding ``[clear_line]`` and ``enabled = false``. Policies are built-in names or
+with ``on.toml`` holding ``[clear_line]`` and ``enabled = true``. Policies are built-in names or
 ``package.module:ClassName``, as for ``robotstadium match``.
 """
 
@@ -49,10 +51,13 @@ from world.field import FIELD, GoalColor
 KEEPER, DEFENDER, ATTACKER = "home_0", "home_1", "away_1"
 BALL_DEPTH_M = (0.05, 0.3)  # the ball this far in front of the home goal line ...
 BALL_Y_M = (0.9, 1.5)  # ... and this far from the long axis, on a seeded side
-DEFENDER_FROM_BALL_M = (0.9, -0.3)  # home_1 this far from the ball along the field and toward the axis
-ATTACKER_FROM_BALL_M = (0.6, 0.4)  # away_1 this far from the ball along the field and toward the side line
-CLEARED_M = 1.8  # a ball this far from the home goal's centre is out of danger
-OUTCOMES = ("goal", "out", "cleared", "none")
+DEFENDER_M = 0.9  # home_1 this far from the ball (it comes first) ...
+ATTACKER_M = 1.2  # ... away_1 this far ...
+START_SPREAD_DEG = 80.0  # ... each within this of straight into the field from the ball ...
+APART_M = 0.5  # ... and the two at least this far apart
+DANGER_DEPTH_M = 1.0  # a ball this far from the home goal line ...
+DANGER_HALF_WIDTH_M = 1.6  # ... or this far from the long axis is out of danger
+OUTCOMES = ("goal", "out_end", "out_side", "cleared", "none")
 
 
 @dataclass(frozen=True)
@@ -103,29 +108,33 @@ class Referee:
         time_s = match.step_index * match.config.world.physics.control_step_s
         beyond = FIELD.half_length + FIELD.ball_radius
         if ball.x < -beyond:
-            self.outcome = ("goal" if abs(ball.y) < FIELD.goal_inner_width / 2 else "out", time_s)
+            self.outcome = ("goal" if abs(ball.y) < FIELD.goal_inner_width / 2 else "out_end", time_s)
         elif abs(ball.y) > FIELD.half_width + FIELD.ball_radius or ball.x > beyond:
-            self.outcome = ("out", time_s)
-        elif math.hypot(ball.x + FIELD.half_length, ball.y) > CLEARED_M:
+            self.outcome = ("out_side", time_s)
+        elif ball.x + FIELD.half_length > DANGER_DEPTH_M or abs(ball.y) > DANGER_HALF_WIDTH_M:
             self.outcome = ("cleared", time_s)
         elif time_s >= self.limit_s:
             self.outcome = ("none", time_s)
         return self.outcome is not None
 
 
-def facing(x: float, y: float, target: tuple[float, float]) -> Pose2D:
-    return Pose2D(x, y, math.atan2(target[1] - y, target[0] - x))
+def start_near(ball: tuple[float, float], reach_m: float, angle_rad: float) -> Pose2D:
+    """A pose ``reach_m`` from the ball, ``angle_rad`` off the direction straight into the home team's
+    attacking half (field frame), facing the ball."""
+    x, y = ball[0] + reach_m * math.cos(angle_rad), ball[1] + reach_m * math.sin(angle_rad)
+    return Pose2D(x, y, math.atan2(ball[1] - y, ball[0] - x))
 
 
 def play_trial(defenders: str, attacker: str, seed: int, limit_s: float) -> Trial:
     rng = np.random.default_rng(seed)
     side = 1.0 if rng.uniform() < 0.5 else -1.0
     ball = (-FIELD.half_length + float(rng.uniform(*BALL_DEPTH_M)), side * float(rng.uniform(*BALL_Y_M)))
-    starts = {
-        KEEPER: kickoff_pose(0, False, GoalColor.BLUE),
-        DEFENDER: facing(ball[0] + DEFENDER_FROM_BALL_M[0], ball[1] + side * DEFENDER_FROM_BALL_M[1], ball),
-        ATTACKER: facing(ball[0] + ATTACKER_FROM_BALL_M[0], ball[1] + side * ATTACKER_FROM_BALL_M[1], ball),
-    }
+    spread = math.radians(START_SPREAD_DEG)
+    while True:
+        near, far = (start_near(ball, reach, float(rng.uniform(-spread, spread))) for reach in (DEFENDER_M, ATTACKER_M))
+        if math.dist((near.x, near.y), (far.x, far.y)) >= APART_M:
+            break
+    starts = {KEEPER: kickoff_pose(0, False, GoalColor.BLUE), DEFENDER: near, ATTACKER: far}
     config = MatchConfig(free_play=FreePlay(tuple(starts.items()), ball_xy=ball))
     names = {KEEPER: defenders, DEFENDER: defenders, ATTACKER: attacker}
     policies = {robot: Placed(make_policy(names[robot]), pose) for robot, pose in starts.items()}
@@ -150,7 +159,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--defenders", default="team", help="the home goalkeeper's and defender's policy (default team)")
     parser.add_argument("--attacker", default="team", help="the attacker's policy (default team)")
-    parser.add_argument("--trials", type=int_in(1, 10_000), default=30, metavar="N", help="trials, 1-10000 (default 30)")
+    parser.add_argument("--trials", type=int_in(1, 10_000), default=40, metavar="N", help="trials, 1-10000 (default 40)")
     parser.add_argument("--seed", type=int_in(0, 2**32 - 1 - 10_000), default=0, metavar="N",
                         help="the first trial's seed; trial k has seed + k (default 0)")
     parser.add_argument("--seconds", type=int_in(1, 600), default=20, metavar="S",

@@ -1,6 +1,6 @@
 """The clear-line set play (agents.team.behavior.set_plays.clear_line), from hand-built world models: a ball at
-the own goal line beside the goal is pushed along the line toward the side line; off, the striker plays as
-before."""
+the own goal line beside the goal is pushed along the line toward the side line; off (as shipped), the striker
+plays as before."""
 
 from __future__ import annotations
 
@@ -17,8 +17,8 @@ from agents.team.params import TeamParams
 from match.protocol import Motion, Pose2D
 from world.field import FIELD
 
-P = TeamParams.default()
-OFF = P.replace(clear_line={"enabled": False})
+OFF = TeamParams.default()  # shipped off
+P = OFF.replace(clear_line={"enabled": True})
 
 
 @pytest.mark.parametrize("attack", [1.0, -1.0])

@@ -8,8 +8,10 @@ walks round it there, or pushes it from the field, plays it along the line into 
 played away from the goal instead: the striker (or the goalkeeper clearing it) comes between the ball
 and the goal, faces the side line, turned ``clear_line.turn_deg`` from the goal line into the field,
 and pushes the ball that way, with the striker's own cards (:class:`~..striker.open_play.GoBehind`,
-:class:`~..striker.open_play.Chase`) on a clearing aim that is pushed, never kicked. Off with
-``clear_line.enabled = false``.
+:class:`~..striker.open_play.Chase`) on a clearing aim that is pushed, never kicked. On with
+``clear_line.enabled = true``; shipped off, since it is not shown to let in fewer goals than the
+clearing out to the side of :mod:`agents.behavior.tactics.aim` that it replaces
+(``examples/goal_line_drill.py`` plays the two against the same attacks).
 
 Computed in the frame where the own goal is at x = -3 (``attack`` = +1 when the robot defends the blue
 goal, -1 otherwise) and mirrored; field frame, m and rad.
