@@ -17,9 +17,9 @@ import re
 from collections.abc import Callable
 from typing import Any
 
-from agents.behavior.scan_localize import ScanLocalizeAgent
-from agents.behavior.scripted import ScriptedPlayer
-from agents.behavior.stand import StandPolicy
+from agents.behavior.policies.scan_localize import ScanLocalizeAgent
+from agents.behavior.policies.scripted import ScriptedPlayer
+from agents.behavior.policies.stand import StandPolicy
 from agents.team.agent import TeamAgent
 from agents.team.params import ParameterError, TeamParams
 from match.protocol import Policy, policy_factory_problem

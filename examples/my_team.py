@@ -17,15 +17,15 @@ from __future__ import annotations
 import math
 
 from agents.behavior import skills
-from agents.behavior.roles import supporter_spot
+from agents.behavior.tactics.roles import supporter_spot
 from agents.modelling.obstacle_model import ObstacleKind
+from agents.radio import Intention, Role, register_role_code
 from agents.team.agent import TeamAgent
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.roles.positioning import Positioning
 from agents.team.behavior.roles.registry import REGISTRY, Kit, RoleSpec, Situation, register
 from agents.team.behavior.root import Behavior
 from agents.team.behavior.set_plays.kickoff_lane import holds_lane
-from agents.team.messages import Intention, Role, register_role_code
 from agents.team.modelling.representations import WorldModel
 from match.protocol import Pose2D
 from world.field import FIELD

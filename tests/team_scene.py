@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from agents.behavior.aim import Aim
+from agents.behavior.tactics.aim import Aim
 from agents.modelling.ball_model import BallEstimate
+from agents.radio import Intention
 from agents.team.agent import TeamAgent
 from agents.team.behavior.requests import BehaviorOutput, MotionRequest
 from agents.team.behavior.striker.context import StrikeContext
-from agents.team.messages import Intention
 from agents.team.modelling.representations import TeamState, WorldModel
 from agents.team.modelling.snapshot import snapshot
 from match.protocol import GoalColor, Motion, Pose2D

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from agents.behavior.scripted import ScriptedPlayer
+from agents.behavior.policies.scripted import ScriptedPlayer
 from agents.team.agent import TeamAgent
 from agents.team.report import landmarks_seen
 from agents.vision.percepts import LandmarkPercept

@@ -60,6 +60,8 @@ def test_contracts_cover_the_design_rules() -> None:
         "scenarios-common-below",
         "scenarios-concerns-independent",
         "scenarios-cli-on-top",
+        "behavior-layers",
+        "behavior-below-team",
     }
 
 
@@ -86,6 +88,15 @@ VIOLATIONS = {
     "nested agent imports the simulation": (
         "agents-see-only-public-facts",
         {"agents/_sub/__init__.py": "", "agents/_sub/_bad.py": "from world._simulated import pybullet\n"},
+    ),
+    "a skill imports a tactic": (
+        "behavior-layers", {"agents/behavior/skills/_bad.py": "from agents.behavior.tactics import aim\n"},
+    ),
+    "a tactic imports a built-in policy": (
+        "behavior-layers", {"agents/behavior/tactics/_bad.py": "import agents.behavior.policies.scripted\n"},
+    ),
+    "a shared tactic imports the team agent": (
+        "behavior-below-team", {"agents/behavior/tactics/_bad.py": "from agents.team import params\n"},
     ),
     "field pulls in pybullet": ("public-facts-pure", {"world/field.py": "from world import _simulated\n"}),
     "scenarios.common imports a concern": (

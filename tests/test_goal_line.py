@@ -6,11 +6,11 @@ import math
 
 import pytest
 
-from agents.behavior.goal_line import HOLD_NEAR_M, at_own_goal_line, hold_off, hold_pose
 from agents.behavior.skills import ARRIVED_M
+from agents.behavior.tactics.goal_line import HOLD_NEAR_M, at_own_goal_line, hold_off, hold_pose
 from agents.modelling.ball_model import BallEstimate
+from agents.radio import Intention
 from agents.team.agent import TeamAgent
-from agents.team.messages import Intention
 from match.protocol import Motion, Pose2D
 from tests.team_scene import strike
 from world.field import FIELD
@@ -52,7 +52,7 @@ def test_the_band_is_the_goal_mouth_at_the_line(attack: float) -> None:
     line = -attack * FIELD.half_length
     assert at_own_goal_line((line + attack * 0.1, 0.0), attack)
     assert at_own_goal_line((line - attack * 0.05, 0.7), attack)  # believed just beyond it, at the post
-    assert not at_own_goal_line((line + attack * 0.2, 0.0), attack)  # room behind it: cleared (agents.behavior.aim)
+    assert not at_own_goal_line((line + attack * 0.2, 0.0), attack)  # room behind it: cleared (agents.behavior.tactics.aim)
     assert not at_own_goal_line((line + attack * 0.05, FIELD.goal_post_y + 0.2), attack)  # beside the goal
     assert not at_own_goal_line((-line - attack * 0.05, 0.0), attack)  # the opponent goal line
 

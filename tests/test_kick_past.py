@@ -6,7 +6,8 @@ import math
 
 import pytest
 
-from agents.behavior.kick_past import (
+from agents.behavior.skills import KICK_ROLL_M, SIDELINE_MARGIN_M
+from agents.behavior.tactics.kick_past import (
     AWAY_FROM_OWN_GOAL_RAD,
     PAST_MARGIN_RAD,
     PAST_SPAN_RAD,
@@ -14,8 +15,7 @@ from agents.behavior.kick_past import (
     PAST_WITHIN_M,
     kick_past,
 )
-from agents.behavior.shot_window import BLOCKER_RADIUS_M, ShotWindowError
-from agents.behavior.skills import KICK_ROLL_M, SIDELINE_MARGIN_M
+from agents.behavior.tactics.shot_window import BLOCKER_RADIUS_M, ShotWindowError
 from world.field import FIELD
 
 

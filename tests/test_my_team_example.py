@@ -9,8 +9,8 @@ from agents.modelling.ball_model import BallEstimate
 from agents.modelling.obstacle_model import Obstacle, ObstacleKind
 from agents.modelling.team_model import TeamModel
 from agents.policies import make_policy
+from agents.radio import ROLE_CODES, Intention, Role, TeamMessage, decode
 from agents.team.behavior.requests import MotionRequest
-from agents.team.messages import ROLE_CODES, Intention, Role, TeamMessage, decode
 from agents.team.modelling.snapshot import snapshot
 from match.protocol import Pose2D
 

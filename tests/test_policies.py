@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from agents.behavior.scan_localize import ScanLocalizeAgent
-from agents.behavior.scripted import ScriptedPlayer
-from agents.behavior.stand import StandPolicy
+from agents.behavior.policies.scan_localize import ScanLocalizeAgent
+from agents.behavior.policies.scripted import ScriptedPlayer
+from agents.behavior.policies.stand import StandPolicy
 from agents.observation import Observation, ObservationError
 from agents.policies import BUILTIN_POLICIES, PolicyNameError, make_policy, policy_factory
 from match.protocol import CameraChoice, GameState, GoalColor, Motion, observation_space

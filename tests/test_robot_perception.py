@@ -1,5 +1,5 @@
 """Robots seen by their team markers (agents.vision.robots), the obstacle model
-(agents.modelling.obstacle_model) and walking around obstacles (agents.behavior.paths)."""
+(agents.modelling.obstacle_model) and walking around obstacles (agents.behavior.skills.paths)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from agents.behavior import skills
-from agents.behavior.paths import LOOK_AHEAD_M, steer_around
+from agents.behavior.skills.paths import LOOK_AHEAD_M, steer_around
 from agents.modelling.obstacle_model import (
     ECHO_EXPIRY_S,
     EXPIRY_S,

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from agents.behavior.scan_localize import ScanLocalizeAgent
+from agents.behavior.policies.scan_localize import ScanLocalizeAgent
 from match.protocol import GameState
 from scenarios.localization.run import RunTask, run_alone, simulate_run
 from scenarios.localization.spec import RobotEntry, ScenarioSpec

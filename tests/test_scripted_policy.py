@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from agents.vision.ball import find_ball
-from agents.behavior.scripted import LONE_SILENCE_STEPS, REPORT, ScriptedPlayer
+from agents.behavior.policies.scripted import LONE_SILENCE_STEPS, ScriptedPlayer, decode_reports
+from agents.observation import RadioPacket
+from agents.radio import Intention, Role, TeamMessage, decode
 from match.protocol import (
     MOTIONS,
     NO_MOTION,
@@ -222,7 +224,7 @@ def test_walks_to_a_far_ball_and_turns_to_a_side_ball() -> None:
 
 def test_holds_position_when_a_teammate_is_nearer() -> None:
     obs = _ball_obs(1.5, 0.0, pitch=0.3, camera=CameraChoice.TOP)
-    packet = REPORT.pack(2, 0.4, 0.1)
+    packet = TeamMessage(2, ball_relative=(0.4, 0.1)).encode()
     radio = obs["radio"]
     radio["count"] = 1
     radio["sender"][0] = 2
@@ -236,8 +238,10 @@ def test_sends_its_ball_estimate_every_fifth_step() -> None:
     obs = _ball_obs(1.5, 0.0, player=3, pitch=0.3, camera=CameraChoice.TOP)
     packets = [player.act(obs)["radio"] for _ in range(6)]
     assert [bool(p) for p in packets] == [True, False, False, False, False, True]
-    sender, distance, bearing = REPORT.unpack(packets[0])
-    assert sender == 3 and distance == pytest.approx(1.5, rel=0.1) and abs(bearing) < 0.05
+    report = decode(packets[0])
+    distance, bearing = report.ball_relative
+    assert report.player == 3 and distance == pytest.approx(1.5, rel=0.1) and abs(bearing) < 0.05
+    assert report.pose is None and report.ball_xy is None  # no pose: its ball from itself only
 
 
 def test_goalkeeper_side_steps_without_walking_forward() -> None:
@@ -254,7 +258,7 @@ def test_a_goalkeeper_that_hears_no_teammate_chases_the_ball(teammate_talks: boo
     """A team of one: after 4 s without a teammate's report the keeper walks to a far ball ahead, which
     a keeper on its line never does; one that hears a teammate keeps its line."""
     keeper = scripted("home_0")
-    packet = REPORT.pack(1, 2.0, 0.0)
+    packet = TeamMessage(1, ball_relative=(2.0, 0.0)).encode()
     actions = []
     for step in range(LONE_SILENCE_STEPS + 5):
         obs = _ball_obs(1.5, 0.0, player=0, pitch=0.3, camera=CameraChoice.TOP)
@@ -282,3 +286,15 @@ def test_scans_and_then_turns_when_the_ball_is_unknown() -> None:
     first_turn = next(i for i, a in enumerate(actions) if motion_of(a) is Motion.WALK)
     assert first_turn > 50  # only after a full sweep
     assert actions[first_turn]["walk"][2] != 0.0 and actions[first_turn]["walk"][0] == 0.0
+
+
+def test_one_radio_format_for_the_scripted_and_the_team_players() -> None:
+    """A team agent's report, which has no ball seen from the sender, is a teammate heard without a ball;
+    a scripted report reads as a team message without pose or play."""
+    team = TeamMessage(1, 4, (0.0, 1.0, 0.0), role=Role.STRIKER, intention=Intention.KICK, time_to_ball_s=1.0)
+    scripted_report = TeamMessage(2, ball_relative=(0.8, -0.2)).encode()
+    reports = decode_reports((RadioPacket(1, team.encode()), RadioPacket(2, scripted_report), RadioPacket(3, b"xyz")), 0)
+    assert [(r.player, r.ball_distance_m) for r in reports] == [(1, -1.0), (2, pytest.approx(0.8))]
+    heard = decode(scripted_report)
+    assert heard.pose is None and heard.role == Role.NONE and heard.time_to_ball_s == math.inf
+

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from agents.behavior.shot_window import (
+from agents.behavior.tactics.shot_window import (
     BLOCKER_RADIUS_M,
     KEEP_SHARE,
     MIN_TOLERANCE_RAD,

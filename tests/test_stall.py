@@ -1,4 +1,4 @@
-"""Getting a stalled ball moving (agents.behavior.stall)."""
+"""Getting a stalled ball moving (agents.behavior.tactics.stall)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from agents.behavior.stall import GAP_S, PUSH_S, STALL_BALL_M, STALL_S, StallWatch, push_allowed
+from agents.behavior.tactics.stall import GAP_S, PUSH_S, STALL_BALL_M, STALL_S, StallWatch, push_allowed
 
 STEP_S = 0.04
 

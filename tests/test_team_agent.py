@@ -11,8 +11,8 @@ import pytest
 from agents.modelling.ball_model import BallEstimate
 from agents.policies import make_policy
 from agents.behavior.skills import LONE_SILENCE_S
+from agents.radio import Role, TeamMessage
 from agents.team.agent import TeamAgent
-from agents.team.messages import Role, TeamMessage
 from agents.team.params import TeamParams
 from match.free_play import FreePlay
 from match.game import MatchConfig
@@ -147,7 +147,7 @@ def test_in_shooting_range_it_kicks_only_between_the_posts(x: float, theta: floa
 
 
 def test_it_shoots_past_a_goalkeeper_it_saw_not_at_it() -> None:
-    from agents.behavior.shot_window import shot_window
+    from agents.behavior.tactics.shot_window import shot_window
     from agents.vision.robots import RobotKind, RobotPercept
     from world.teams import TeamColor
 
@@ -409,7 +409,7 @@ def _to_robot(pose: Pose2D, xy: tuple[float, float]) -> tuple[float, float]:
 
 @pytest.mark.parametrize("attack", [1.0, -1.0])
 def test_a_ball_in_front_of_its_own_goal_is_cleared_out_to_its_side(attack: float) -> None:
-    from agents.behavior.aim import BEHIND_MIN_DEPTH_M, kick_aim
+    from agents.behavior.tactics.aim import BEHIND_MIN_DEPTH_M, kick_aim
     from agents.behavior.skills import behind_point
 
     own_line = -attack * FIELD.half_length
@@ -458,7 +458,7 @@ def test_a_ball_on_their_goal_line_is_pushed_in_past_the_post_or_back_out_in_fro
     circled the ball into an opponent standing at the post and stood there for 150 s. Now it
     walks the ball in from where it stands, and a ball beside the goal is pushed back out in
     front of it from beyond the end line."""
-    from agents.behavior.aim import POST_CLEARANCE_M, kick_aim
+    from agents.behavior.tactics.aim import POST_CLEARANCE_M, kick_aim
     from agents.behavior.skills import PUSH_MPS, behind_point
 
     goal_x = attack * FIELD.half_length
@@ -503,7 +503,7 @@ def test_a_throw_in_first_touch_goes_neither_out_nor_back_in_its_own_half(attack
     """Whichever way a robot would play a ball on the throw-in line, the first touch's aim turns at
     least 10 degrees off the near side line into the field, and in its own half never back toward
     its own goal; a way within those bounds is kept, one outside goes to the nearer bound."""
-    from agents.behavior.aim import RESTART_BACK_RAD, RESTART_INTO_FIELD_RAD, RESTART_OFF_LINE_RAD, restart_aim
+    from agents.behavior.tactics.aim import RESTART_BACK_RAD, RESTART_INTO_FIELD_RAD, RESTART_OFF_LINE_RAD, restart_aim
 
     ball = (attack * (-0.5 if half == "own" else 0.5), line_y)
     side = math.copysign(1.0, line_y)
@@ -528,7 +528,7 @@ def test_a_throw_in_first_touch_keeps_the_edge_it_turned_to(attack: float) -> No
     turning toward one must not make the other the aim (a robot 0.5 m from a throw-in's ball once
     turned back and forth for 7 s). With the last aim held, the edge stays whichever way it faces
     outside the cone; without it, the tie flips the aim."""
-    from agents.behavior.aim import restart_aim
+    from agents.behavior.tactics.aim import restart_aim
 
     ball = (-attack * 2.0, 1.6)  # in the own half, by the own goal: the cone runs from 10 to 90 degrees into the field
     tie = math.atan2(math.sin(math.radians(130.0)), attack * math.cos(math.radians(130.0)))  # the cone's far middle
@@ -619,7 +619,7 @@ def test_a_throw_in_s_ball_is_walked_round_to_the_spot_behind_it_not_orbited() -
     striker walks round the ball to the spot behind it (orbiting it from 0.45 m on was slower in the
     throw-in drill); ten seconds later, in open play, it orbits the ball as before."""
     from agents.behavior import skills
-    from agents.behavior.aim import restart_aim
+    from agents.behavior.tactics.aim import restart_aim
 
     ball_xy, attack = (-0.5, 1.6), 1.0
     pose = Pose2D(-0.2, 1.4, math.radians(150.0))
@@ -645,7 +645,7 @@ def test_a_striker_on_the_opponent_side_of_a_throw_in_s_ball_plays_it_back_along
     """The ball put on the throw-in line in the opponent half, the striker 0.85 m from it on the side
     of the opponent goal: it comes at the ball from where it stands and plays it back along the line
     (it once walked round the ball and orbited it for 13 s); in its own half it goes round the ball."""
-    from agents.behavior.aim import restart_aim
+    from agents.behavior.tactics.aim import restart_aim
     from agents.behavior.skills import behind_ball, behind_point
 
     ball, robot, attack = (-2.0, -1.6), Pose2D(-2.6, -1.0, math.radians(-45.0)), -1.0
@@ -722,7 +722,7 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
     from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S
     from agents.team.behavior.geometry import relative as _relative
     from agents.team.behavior.set_plays.ball_out import wait_pose
-    from agents.team.messages import Intention
+    from agents.radio import Intention
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)  # rests 2 m on, the path crosses the line at x = 0.5
     pose = Pose2D(0.2, 0.8, 0.0)
@@ -770,7 +770,7 @@ def test_a_ball_going_out_is_waited_for_behind_the_spot_of_the_team_guessed_to_h
 def test_the_striker_of_a_ball_going_out_is_the_robot_nearest_the_spot_it_comes_back_on() -> None:
     """Roles go by the time to the spot: a robot near the spot takes the striker's role from a teammate
     near where the ball crosses the line, which would have kept it by the time to the ball."""
-    from agents.behavior.roles import time_to_ball
+    from agents.behavior.tactics.roles import time_to_ball
     from agents.team.behavior.roles.assignment import assign
 
     rolling = BallEstimate(0.5, 1.5, 0.0, 1.0, 0.05, 0.0)
@@ -798,7 +798,7 @@ def test_a_robot_standing_up_tells_its_teammates_it_is_down_so_its_old_role_does
     """Standing up, a striker's role and time to the ball are those of before its fall: its messages say it
     is down, as while it lay, so that a teammate does not leave the ball to it."""
     from agents.observation import MOTIONS
-    from agents.team.messages import decode
+    from agents.radio import decode
 
     agent = TeamAgent()
     agent.reset("home_1", 0)
@@ -956,7 +956,7 @@ def test_a_throw_in_s_ball_still_where_the_striker_first_saw_it_gets_the_quick_t
     where the striker first saw it after the put-back (nobody touched it), up to twenty seconds; a ball
     moved from there is played as in open play."""
     from agents.behavior import skills
-    from agents.behavior.aim import restart_aim
+    from agents.behavior.tactics.aim import restart_aim
     from agents.team.agent import DT_S
 
     ball_xy, attack = (-0.5, 1.6), 1.0

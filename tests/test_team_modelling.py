@@ -6,15 +6,15 @@ import math
 
 import pytest
 
-from agents.behavior.roles import Candidate, assign_role, role_position, time_to_ball
+from agents.behavior.tactics.roles import Candidate, assign_role, role_position, time_to_ball
 from agents.modelling.ball_absence import MISS_WINDOW_S, MISSES_TO_FORGET, BallAbsence, in_clear_view, in_view
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate, BallModel
 from agents.modelling.obstacle_model import Obstacle, ObstacleKind
 from agents.localization.estimate import EstimateSource, PoseEstimate
 from agents.modelling.self_locator import DOUBT_SIGMA_M, JUMP_CONFIRMATIONS, SelfLocator
 from agents.modelling.team_model import MESSAGE_TIMEOUT_S, TeamModel
+from agents.radio import Role, TeamMessage
 from agents.team.modelling.odometry import arc as _arc
-from agents.team.messages import Role, TeamMessage
 from agents.vision.percepts import LandmarkPercept
 from match.protocol import Displacement, Pose2D
 from world.camera_model import CameraPosition

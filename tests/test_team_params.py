@@ -26,6 +26,9 @@ def test_the_shipped_file_sets_every_key_within_its_bounds() -> None:
         section = getattr(params, table.name)
         for f in dataclasses.fields(section):
             value = getattr(section, f.name)
+            if f.metadata.get("switch"):
+                assert isinstance(value, bool), f"{table.name}.{f.name}"
+                continue
             assert f.metadata["low"] <= value <= f.metadata["high"], f"{table.name}.{f.name}"
     assert params.kick.align_rad == math.radians(35.0)
     assert isinstance(params.head.shot_top_frame_every, int)
@@ -48,6 +51,7 @@ def test_a_file_of_ones_own_changes_only_the_keys_it_names(tmp_path: Path) -> No
     ("[kick]\nalign_deg = true\n", "kick.align_deg", "a number"),
     ("[kick]\nalign_deg = nan\n", "kick.align_deg", "a number"),
     ("[head]\nshot_top_frame_every = 2.5\n", "head.shot_top_frame_every", "an integer from 1 to 100"),
+    ("[clear_line]\nenabled = 1\n", "clear_line.enabled", "true or false"),
     ("[kick]\naling_deg = 20\n", "kick.aling_deg", "one of the keys align_deg,"),
     ("[kicks]\nalign_deg = 20\n", "kicks", "one of the tables ball,"),
     ("kick = 3\n", "kick", "a table"),

@@ -9,17 +9,17 @@ import math
 import numpy as np
 import pytest
 
-from agents.behavior.roles import FIELD_ROLES
+from agents.behavior.tactics.roles import FIELD_ROLES
 from agents.modelling.ball_model import BallEstimate, BallModel
 from agents.modelling.self_locator import SelfLocator
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
+from agents.radio import Intention, Role, TeamMessage
 from agents.team.agent import TeamAgent
 from agents.team.behavior.framework import Option, deck
 from agents.team.behavior.roles.assignment import assign, lone
 from agents.team.behavior.roles.registry import REGISTRY, RoleSpec, register
 from agents.team.behavior.root import Behavior
-from agents.team.messages import Intention, Role, TeamMessage
 from agents.team.modelling.game import GameProvider
 from agents.team.modelling.modeller import WorldModeller
 from agents.team.modelling.representations import TeamState
@@ -202,7 +202,8 @@ def test_a_team_agent_plays_another_parameter_set() -> None:
 
 
 def test_the_team_and_scripted_policies_share_the_lone_goalkeeper_rule() -> None:
-    from agents.behavior import scripted, skills
+    from agents.behavior import skills
+    from agents.behavior.policies import scripted
 
     assert skills.plays_alone(0, skills.LONE_SILENCE_S) and not skills.plays_alone(0, skills.LONE_SILENCE_S - 0.04)
     assert not skills.plays_alone(1, 60.0)  # field players play the field anyway

@@ -1,10 +1,10 @@
-"""Getting free when a commanded turn does not turn (agents.behavior.unjam)."""
+"""Getting free when a commanded turn does not turn (agents.behavior.tactics.unjam)."""
 
 from __future__ import annotations
 
 import pytest
 
-from agents.behavior.unjam import ESCAPE_S, WINDOW_S, Unjammer
+from agents.behavior.tactics.unjam import ESCAPE_S, WINDOW_S, Unjammer
 
 STEP_S = 0.04
 CLEAR = (2.5, 2.5, 2.5, 2.5)

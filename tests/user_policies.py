@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from agents.team.messages import TeamMessage
+from agents.radio import TeamMessage
 from match.protocol import Action, CameraChoice, Motion, make_action, parse_action, policy_builder
 
 

@@ -11,6 +11,7 @@ from the prediction (a kick, the referee placing the ball) resets the filter aft
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -79,9 +80,7 @@ class BallModel:
         self.age_s += dt_s
         if self.x is None:
             return
-        decay = math.exp(-dt_s / ROLL_DECAY_S)
-        f = np.array([[1, 0, dt_s, 0], [0, 1, 0, dt_s], [0, 0, decay, 0], [0, 0, 0, decay]], float)
-        q = _process_noise(dt_s)
+        f, q = _transition(dt_s)
         self.x = f @ self.x
         self.p = f @ self.p @ f.T + q
         # Into the robot's new frame: shift by the displacement, rotate by -turn.
@@ -129,15 +128,7 @@ class BallModel:
     def in_field(self, pose: tuple[float, float, float], pose_sigma_m: float, pose_sigma_rad: float) -> BallEstimate | None:
         """The ball in the field frame, seen from ``pose`` (x, y, theta) known to the given sigmas."""
         rel = self.relative()
-        if rel is None:
-            return None
-        px, py, theta = pose
-        c, s = math.cos(theta), math.sin(theta)
-        x = px + c * rel.x - s * rel.y
-        y = py + s * rel.x + c * rel.y
-        vx, vy = c * rel.vx - s * rel.vy, s * rel.vx + c * rel.vy
-        sigma = math.sqrt(rel.sigma_m**2 + pose_sigma_m**2 + (rel.distance_m * pose_sigma_rad) ** 2)
-        return BallEstimate(x, y, vx, vy, sigma, rel.age_s)
+        return None if rel is None else to_field(rel, pose, pose_sigma_m, pose_sigma_rad)
 
     def _start(self, z: np.ndarray, r: np.ndarray) -> None:
         self.x = np.array([z[0], z[1], 0.0, 0.0])
@@ -146,6 +137,17 @@ class BallModel:
         self.p[2, 2] = self.p[3, 3] = INITIAL_VELOCITY_SIGMA_MPS**2
         self.age_s = 0.0
         self._misfits = 0
+
+
+@functools.lru_cache(maxsize=8)
+def _transition(dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The state transition over ``dt_s`` (the roll decays) and its process noise, read-only: every step
+    of a robot lasts the same, so they are built once."""
+    decay = math.exp(-dt_s / ROLL_DECAY_S)
+    f = np.array([[1, 0, dt_s, 0], [0, 1, 0, dt_s], [0, 0, decay, 0], [0, 0, 0, decay]], float)
+    q = _process_noise(dt_s)
+    f.flags.writeable = q.flags.writeable = False
+    return f, q
 
 
 def _process_noise(dt_s: float) -> np.ndarray:
@@ -165,3 +167,16 @@ def _measurement_noise(distance_m: float, bearing_rad: float) -> np.ndarray:
     c, s = math.cos(bearing_rad), math.sin(bearing_rad)
     rotation = np.array([[c, -s], [s, c]])
     return rotation @ np.diag([along**2, across**2]) @ rotation.T
+
+
+def to_field(rel: BallEstimate, pose: tuple[float, float, float], pose_sigma_m: float,
+             pose_sigma_rad: float) -> BallEstimate:
+    """A torso-frame estimate in the field frame, seen from ``pose`` (x m, y m, theta rad) known to the given
+    sigmas (m, rad): the pose's uncertainty adds to the ball's, its heading's by the ball's distance."""
+    px, py, theta = pose
+    c, s = math.cos(theta), math.sin(theta)
+    x = px + c * rel.x - s * rel.y
+    y = py + s * rel.x + c * rel.y
+    vx, vy = c * rel.vx - s * rel.vy, s * rel.vx + c * rel.vy
+    sigma = math.sqrt(rel.sigma_m**2 + pose_sigma_m**2 + (rel.distance_m * pose_sigma_rad) ** 2)
+    return BallEstimate(x, y, vx, vy, sigma, rel.age_s)

@@ -147,8 +147,8 @@ class ObstacleModel:
 
     def hear_sonar(self, sonar_m: Sequence[float]) -> None:
         """One step's sonar ranges (m): upper-left, upper-right, lower-left, lower-right."""
-        readings = tuple(float(r) for r in sonar_m)
-        if len(readings) != SONAR_COUNT or not all(math.isfinite(r) for r in readings):
+        readings = tuple(map(float, sonar_m))
+        if len(readings) != SONAR_COUNT or not all(map(math.isfinite, readings)):
             raise ObstacleModelError(
                 f"sonar_m must be {SONAR_COUNT} finite ranges (upper-left, upper-right, lower-left, lower-right); got {sonar_m!r}"
             )

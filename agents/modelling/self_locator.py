@@ -99,6 +99,11 @@ class SelfLocator:
             return None
         return compose(self._tracked, self._pending)
 
+    @property
+    def has_pose(self) -> bool:
+        """Whether it holds a pose (:attr:`pose` is not None), without composing it."""
+        return self._tracked is not None
+
     def reset(self, pose: Pose2D) -> None:
         """A known pose (placed at a kick-off position)."""
         self._pending = Displacement(0.0, 0.0, 0.0)

@@ -1,6 +1,6 @@
 """The team model: what the teammates said over the radio, and the ball the team believes in.
 
-Messages (:mod:`agents.team.messages`) are kept per teammate with the time they arrived;
+Messages (:mod:`agents.radio`) are kept per teammate with the time they arrived;
 after :data:`MESSAGE_TIMEOUT_S` a teammate is forgotten (fallen silent, penalized or
 gone). The team ball is the freshest and most certain estimate among the robot's own and
 its teammates' (field frame).
@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 
 from agents.modelling.ball_model import ROLL_DECAY_S, BallEstimate
-from agents.team.messages import TeamMessage
+from agents.radio import TeamMessage
 
 MESSAGE_TIMEOUT_S = 2.0
 BALL_TIMEOUT_S = 4.0  # a ball older than this is no ball
@@ -51,17 +51,19 @@ class TeamModel:
         return tuple(fresh)
 
     def team_ball(
-        self, own: BallEstimate | None, now_s: float, max_age_s: float = BALL_TIMEOUT_S
+        self, own: BallEstimate | None, now_s: float, max_age_s: float = BALL_TIMEOUT_S,
+        teammates: tuple[Teammate, ...] | None = None,
     ) -> tuple[BallEstimate, int] | None:
         """The best ball estimate in the field frame and whose it is (a player number), or None.
 
         Sightings older than ``max_age_s`` (and than :data:`BALL_TIMEOUT_S`) count for nothing:
-        after a throw-in, for example, every sighting from before it shows a ball that is gone."""
+        after a throw-in, for example, every sighting from before it shows a ball that is gone.
+        ``teammates``: :meth:`teammates` at ``now_s`` if the caller has it already."""
         max_age_s = min(max_age_s, BALL_TIMEOUT_S)
         candidates: list[tuple[float, int, BallEstimate]] = []
         if own is not None and own.age_s <= max_age_s:
             candidates.append((_score(own), self.own_player, own))
-        for mate in self.teammates(now_s):
+        for mate in self.teammates(now_s) if teammates is None else teammates:
             m = mate.message
             if m.ball_xy is None or m.fallen:
                 continue

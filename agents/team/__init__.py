@@ -1,1 +1,2 @@
-"""The team agent's shared parts: the team message sent over the radio, and its decoding."""
+"""The team agent (policy ``team``): modelling as providers into a world model, behaviour as options and
+cards, parameters from TOML (:mod:`.agent`, :mod:`.modelling`, :mod:`.behavior`, :mod:`.params`)."""

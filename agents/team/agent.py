@@ -12,7 +12,7 @@ A composition of three stages, each step (40 ms), from the observation only:
    a motion, the head and camera, and the radio's role and intention.
 
 The composition then steers a walk around the obstacles (not the striker's near its ball), escapes a
-lock with another robot (:mod:`agents.behavior.unjam`), and sends the radio message every
+lock with another robot (:mod:`agents.behavior.tactics.unjam`), and sends the radio message every
 :data:`RADIO_EVERY_STEPS` steps and a camera frame every :data:`CAMERA_EVERY_STEPS`. The tunable numbers
 are :mod:`agents.team.params`'s (``params``). Variants: the localization method (``method``) and
 ``avoid_obstacles`` (False: the "blind" player of the thesis' scenario 3).
@@ -24,12 +24,14 @@ import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
-from agents.behavior import paths, skills
-from agents.behavior.unjam import Unjammer
+from agents.behavior import skills
+from agents.behavior.skills import paths
+from agents.behavior.tactics.unjam import Unjammer
+from agents.modelling.ball_model import to_field
 from agents.observation import Observation
+from agents.radio import Role, TeamMessage
 from agents.team.behavior.requests import BehaviorOutput
 from agents.team.behavior.root import Behavior
-from agents.team.messages import Role, TeamMessage
 from agents.team.modelling.modeller import WorldModeller
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
@@ -138,8 +140,9 @@ class TeamAgent:
         time to the ball are those of before the fall) nor take its sightings."""
         robot = world.robot
         pose, ball = robot.pose_field, None
-        if self.world.ball.relative() is not None:
-            ball = self.world.ball.in_field((pose.x, pose.y, pose.theta), robot.sigma_m, robot.sigma_rad)
+        torso = world.ball.torso if world.ball is not None else self.world.ball.relative()
+        if torso is not None:
+            ball = to_field(torso, (pose.x, pose.y, pose.theta), robot.sigma_m, robot.sigma_rad)
         self.sequence += 1
         return TeamMessage(
             player=self.player, sequence=self.sequence, pose=(pose.x, pose.y, pose.theta),

@@ -43,6 +43,11 @@ def bounded(low: float, high: float) -> Any:
     return field(metadata={"low": low, "high": high})
 
 
+def switch() -> Any:
+    """A field that turns a behaviour on or off (TOML ``true`` or ``false``)."""
+    return field(metadata={"switch": True})
+
+
 @dataclass(frozen=True)
 class BallParams:
     """Believing in a ball: the own sighting, a throw-in's spot, a ball believed just out."""
@@ -192,6 +197,22 @@ class KickOffParams:
 
 
 @dataclass(frozen=True)
+class ClearLineParams:
+    """A ball at the own goal line beside the goal: cleared along the line toward the side line
+    (:mod:`agents.team.behavior.set_plays.clear_line`)."""
+
+    enabled: bool = switch()
+    depth_m: float = bounded(0.0, 1.0)  # a ball nearer the own goal line than this ...
+    beside_post_m: float = bounded(0.0, 1.0)  # ... beside a post by this at least (nearer, it is held off) ...
+    outer_y_m: float = bounded(0.0, 2.0)  # ... and nearer the field's long axis than this is cleared ...
+    turn_deg: float = bounded(0.0, 90.0)  # ... toward its side line, turned this far from the goal line into the field
+
+    @functools.cached_property
+    def turn_rad(self) -> float:
+        return math.radians(self.turn_deg)
+
+
+@dataclass(frozen=True)
 class TeamParams:
     """Every tunable number of the team agent, by concern (one TOML table each)."""
 
@@ -204,6 +225,7 @@ class TeamParams:
     throw_in: ThrowInParams
     side_tap: SideTapParams
     kickoff: KickOffParams
+    clear_line: ClearLineParams
 
     @staticmethod
     def default() -> TeamParams:
@@ -249,6 +271,7 @@ def from_tables(data: dict[str, Any], path: str, base: TeamParams | None = None)
 _SECTIONS: dict[str, type] = {
     "ball": BallParams, "posture": PostureParams, "head": HeadParams, "kick": KickParams, "keeper": KeeperParams,
     "ball_out": BallOutParams, "throw_in": ThrowInParams, "side_tap": SideTapParams, "kickoff": KickOffParams,
+    "clear_line": ClearLineParams,
 }
 
 
@@ -269,7 +292,11 @@ def _section(cls: type, table: dict[str, Any], path: str, name: str, old: Any) -
     return cls(**values)
 
 
-def _checked(value: Any, f: dataclasses.Field, path: str, key: str) -> float | int:
+def _checked(value: Any, f: dataclasses.Field, path: str, key: str) -> float | int | bool:
+    if f.metadata.get("switch"):
+        if not isinstance(value, bool):
+            raise ParameterError(path, key, value, "true or false")
+        return value
     low, high = f.metadata["low"], f.metadata["high"]
     whole = f.type in (int, "int")
     kind = "an integer" if whole else "a number"

@@ -2,7 +2,7 @@
 
 A run is independent given its seed (:meth:`ScenarioSpec.run_seeds`): the same task gives
 the same samples, in whatever process it runs. Measured robots run
-:class:`~agents.behavior.scan_localize.ScanLocalizeAgent` with every method of the
+:class:`~agents.behavior.policies.scan_localize.ScanLocalizeAgent` with every method of the
 scenario side by side; after each of their localization events this harness (never the
 agent) reads the true pose from the world, the thesis' GPS, and makes one
 :class:`~scenarios.localization.samples.LocalizationSample` per method. A scenario with
@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from agents.behavior.scan_localize import LocalizationEvent
+from agents.behavior.policies.scan_localize import LocalizationEvent
 from agents.policies import make_policy
 from match.free_play import FreePlay
 from match.game import Match, MatchConfig
@@ -240,7 +240,7 @@ def run_alone(
 ) -> RunResult:
     """Scenario 1: ``samples`` localization events of one robot alone on the field, from ``start``.
 
-    The robot runs :class:`~agents.behavior.scan_localize.ScanLocalizeAgent` (move, scan,
+    The robot runs :class:`~agents.behavior.policies.scan_localize.ScanLocalizeAgent` (move, scan,
     localize) with every method of ``methods`` side by side, on the bare world.
     """
     robot = RobotEntry(ALONE_ROBOT, "scan_localize", measured=True, start=start)

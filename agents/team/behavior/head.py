@@ -113,7 +113,7 @@ class HeadControl:
 
     def penalty_look(self, world: WorldModel) -> HeadRequest:
         """A penalty kicker's head while the kick is set: first at the goal straight ahead (top camera), where
-        it sees the goalkeeper (:mod:`agents.behavior.shot_window`), then at the ball before its feet."""
+        it sees the goalkeeper (:mod:`agents.behavior.tactics.shot_window`), then at the ball before its feet."""
         if world.now_s - world.game.state_since_s < self.params.head.penalty_look_s:
             self.camera = CameraPosition.TOP
             return self.request(0.0, skills.SCAN_PITCH_RAD)

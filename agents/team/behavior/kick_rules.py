@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 
 from agents.behavior import skills
-from agents.behavior.aim import POST_CLEARANCE_M
-from agents.behavior.shot_window import ShotWindow
+from agents.behavior.tactics.aim import POST_CLEARANCE_M
+from agents.behavior.tactics.shot_window import ShotWindow
 from agents.team.behavior.geometry import on_target
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
@@ -23,11 +23,11 @@ def may_kick(world: WorldModel, params: TeamParams, pose: Pose2D, ball_xy: tuple
              heading_error: float, clearing: bool = False, shot: ShotWindow | None = None,
              goal_line: bool = False) -> bool:
     """Facing the opponent goal by the pose (in shooting range, ``shot``: within the open part of
-    its mouth, :mod:`agents.behavior.shot_window`; the kick goes where the robot faces), not the
+    its mouth, :mod:`agents.behavior.tactics.shot_window`; the kick goes where the robot faces), not the
     own goal by the eyes, not out over a side line within a kick's roll; a clearing from the own
-    goal mouth (:mod:`agents.behavior.aim`) only faces its aim (``heading_error``) and may go
+    goal mouth (:mod:`agents.behavior.tactics.aim`) only faces its aim (``heading_error``) and may go
     out: a throw-in there is no goal. On their goal line (``goal_line``) the push in need only
-    pass the posts by :data:`agents.behavior.aim.POST_CLEARANCE_M`, and the push back out in
+    pass the posts by :data:`agents.behavior.tactics.aim.POST_CLEARANCE_M`, and the push back out in
     front of their goal (a clearing there) is no danger to the own goal, 6 m away, whatever
     the eyes see."""
     k = params.kick

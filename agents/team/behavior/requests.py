@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from agents.behavior import skills
-from agents.team.messages import Intention
+from agents.radio import Intention
 from match.protocol import Motion
 from world.camera_model import CameraPosition
 

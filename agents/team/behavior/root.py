@@ -14,7 +14,8 @@ import math
 from collections.abc import Sequence
 
 from agents.behavior import skills
-from agents.behavior.roles import FIELD_ROLES
+from agents.behavior.tactics.roles import FIELD_ROLES
+from agents.radio import Intention, Role
 from agents.team.behavior.framework import Option
 from agents.team.behavior.head import HeadControl
 from agents.team.behavior.requests import BehaviorOutput, HeadRequest, MotionRequest
@@ -22,7 +23,6 @@ from agents.team.behavior.roles import defender, goalkeeper, striker, supporter 
 from agents.team.behavior.roles.assignment import assign, lone, shootout_role
 from agents.team.behavior.roles.registry import REGISTRY, RolePlayer, Situation
 from agents.team.behavior.striker.play import Striker
-from agents.team.messages import Intention, Role
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
 from match.protocol import GameState, Motion, kickoff_pose

@@ -43,6 +43,8 @@ class GameProvider:
         self._drop_in_since_s = math.inf  # the last broadcast's seconds since a throw-in
         self.drop_in_at_s = -math.inf
         self._drop_in_spot: tuple[float, float] | None = None
+        self._key: tuple | None = None  # the fields of the last situation provided
+        self._situation: GameSituation | None = None
 
     def update(self, obs: Observation, now_s: float, own_goal_ahead_s: float) -> GameSituation:
         game = obs.game
@@ -58,30 +60,32 @@ class GameProvider:
         else:
             self._reset_for_kickoff(obs)
         self._state, self._defended = game.state, game.defended_goal
-        return GameSituation(game.state, self._state_since_s, game.kickoff, shootout, game.defended_goal,
-                             game.drop_in_team, self.drop_in_at_s, self._drop_in_spot, own_goal_ahead_s)
+        key = (game.state, self._state_since_s, game.kickoff, shootout, game.defended_goal, game.drop_in_team,
+               self.drop_in_at_s, self._drop_in_spot, own_goal_ahead_s)
+        if key != self._key:  # most steps change none of it: the last snapshot's value serves again
+            self._key, self._situation = key, GameSituation(*key)
+        return self._situation
 
     def _reset_for_penalty(self, obs: Observation) -> None:
         state, defended = obs.game.state, obs.game.defended_goal
         set_anew = state is GameState.SET and (self._state is not GameState.SET or defended is not self._defended)
-        if set_anew or self.locator.pose is None:
+        if set_anew or not self.locator.has_pose:
             self.locator.reset(penalty_pose(obs.game.kickoff is KickOff.OWN_TEAM, defended))
             self.ball.reset()
 
     def _reset_for_kickoff(self, obs: Observation) -> None:
         state, defended = obs.game.state, obs.game.defended_goal
         kicking = obs.game.kickoff is KickOff.OWN_TEAM
-        start = kickoff_pose(self.player, kicking, defended)
-        pose = self.locator.pose
         if state is GameState.INITIAL and (self._state is not GameState.INITIAL or defended is not self._defended):
-            self.locator.reset(start)
+            self.locator.reset(kickoff_pose(self.player, kicking, defended))
             self.ball.reset()
         elif state is GameState.SET and self._state is not GameState.SET:
             # The referee put it at its kick-off pose if it lay fallen or stood where it may not stay.
+            pose = self.locator.pose
             if pose is None or obs.fallen or not legal_kickoff_position(pose.x, pose.y, defended, kicking):
-                self.locator.reset(start)
-        elif pose is None:
-            self.locator.reset(start)
+                self.locator.reset(kickoff_pose(self.player, kicking, defended))
+        elif not self.locator.has_pose:
+            self.locator.reset(kickoff_pose(self.player, kicking, defended))
 
     def _throw_in(self, obs: Observation, now_s: float, since_s: float) -> None:
         """The referee put the ball back ``since_s`` ago: every sighting from before is of a ball that is gone."""

@@ -15,7 +15,7 @@ from agents.modelling.ball_model import BallModel as BallFilter
 from agents.modelling.obstacle_model import ObstacleModel
 from agents.modelling.self_locator import SelfLocator
 from agents.observation import Observation
-from agents.team.messages import Intention
+from agents.radio import Intention
 from agents.team.modelling.ball import own_ball
 from agents.team.modelling.game import GameProvider
 from agents.team.modelling.odometry import OdometryProvider
@@ -68,8 +68,8 @@ class WorldModeller:
         obstacles = Obstacles(self.obstacles.obstacles(), pose)
         ball = team_ball = play = None
         if not posture.busy:
-            ball = own_ball(self.ball, self.locator, self.params)
-            team_ball = self.team_ball.update(ball, game, now)
+            ball = own_ball(self.ball, robot, self.params)
+            team_ball = self.team_ball.update(ball, game, now, team)
             if game.state is GameState.PLAYING and not posture.kicking:
                 play = self.restart.update(team_ball.field, self.team_ball.ball_in_s, game, team, last_intention, now)
         return WorldModel(self.player, self.step, now, robot, posture, odometry, game, team, obstacles, ball,

@@ -14,7 +14,7 @@ import math
 
 from agents.modelling.ball_out import OWN_TOUCH_MEMORY_S, expected_spot, leaving_point
 from agents.modelling.ball_model import BallEstimate
-from agents.team.messages import Intention
+from agents.radio import Intention
 from agents.team.modelling.representations import GameSituation, PlayStatus, TeamState
 from agents.team.params import TeamParams
 from match.protocol import GoalColor
@@ -28,6 +28,7 @@ class RestartProvider:
         self._own_touch_s = -math.inf  # when it or a teammate last meant to kick or push the ball
         self._kickoff_played_s = math.inf
         self._kickoff_state_since_s = -math.inf  # the state (by its start) that kick-off time belongs to
+        self._status = PlayStatus(None, math.inf)
 
     def update(self, ball: BallEstimate | None, ball_in_s: float, game: GameSituation, team: TeamState,
                last_intention: Intention, now_s: float) -> PlayStatus:
@@ -41,7 +42,9 @@ class RestartProvider:
             self._kickoff_played_s, self._kickoff_state_since_s = math.inf, game.state_since_s
         if ball is not None and math.hypot(ball.x, ball.y) >= self.params.kickoff.played_m:
             self._kickoff_played_s = min(self._kickoff_played_s, now_s)
-        return PlayStatus(restart, self._kickoff_played_s)
+        if self._status.restart_field != restart or self._status.kickoff_played_s != self._kickoff_played_s:
+            self._status = PlayStatus(restart, self._kickoff_played_s)  # else the last one serves again
+        return self._status
 
     def expected_restart(self, ball: BallEstimate | None, ball_in_s: float, defended: GoalColor,
                          now_s: float) -> tuple[float, float] | None:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from agents.modelling.team_model import TeamModel
 from agents.observation import Observation
-from agents.team.messages import DecodeStats, decode
+from agents.radio import DecodeStats, decode
 from agents.team.modelling.representations import TeamState
 
 

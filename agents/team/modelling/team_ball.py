@@ -12,7 +12,7 @@ from __future__ import annotations
 from agents.modelling.ball_model import BallEstimate
 from agents.modelling.ball_out import BallOut, leaving_point, out_of_field
 from agents.modelling.team_model import TeamModel
-from agents.team.modelling.representations import BallModel, GameSituation, TeamBall
+from agents.team.modelling.representations import BallModel, GameSituation, TeamBall, TeamState
 from agents.team.params import TeamParams
 
 
@@ -27,9 +27,11 @@ class TeamBallProvider:
         # the own ball and the team ball (field frame) as the last decision used them, for reports
         self.believed: tuple[tuple[float, float] | None, tuple[float, float] | None] = (None, None)
 
-    def update(self, own: BallModel, game: GameSituation, now_s: float) -> TeamBall:
+    def update(self, own: BallModel, game: GameSituation, now_s: float, team: TeamState | None = None) -> TeamBall:
+        """``team``: the step's teammates (else read from the team model)."""
         since_drop_in = now_s - game.drop_in_at_s
-        best = self.team.team_ball(own.field, now_s, max_age_s=since_drop_in)
+        teammates = None if team is None else team.teammates
+        best = self.team.team_ball(own.field, now_s, max_age_s=since_drop_in, teammates=teammates)
         team = None if best is None else best[0]
         spot = game.drop_in_spot_field
         if team is None and spot is not None and since_drop_in < self.params.ball.drop_in_spot_s:

@@ -1,6 +1,6 @@
 """Who plays what: this robot's role from its time to the ball and its teammates' last messages.
 
-The rules are :func:`agents.behavior.roles.assign_role`'s (the striker keeps its role unless another is
+The rules are :func:`agents.behavior.tactics.roles.assign_role`'s (the striker keeps its role unless another is
 faster by a margin); here the candidates come from the team model. A goalkeeper that heard no teammate
 for :data:`~agents.behavior.skills.LONE_SILENCE_S` plays alone (a team of one, or every teammate
 silent): it plays the field. In a penalty shoot-out the kicking team's robot on the field strikes, the
@@ -13,8 +13,8 @@ import math
 from collections.abc import Sequence
 
 from agents.behavior import skills
-from agents.behavior.roles import FIELD_ROLES, Candidate, assign_role, time_to_ball
-from agents.team.messages import Role
+from agents.behavior.tactics.roles import FIELD_ROLES, Candidate, assign_role, time_to_ball
+from agents.radio import Role
 from agents.team.modelling.representations import WorldModel
 
 

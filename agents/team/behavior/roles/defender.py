@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from agents.behavior.roles import defender_spot
+from agents.behavior.tactics.roles import defender_spot
+from agents.radio import Role
 from agents.team.behavior.roles.positioning import Positioning
 from agents.team.behavior.roles.registry import RoleSpec, register
-from agents.team.messages import Role
 
 DEFENDER = register(RoleSpec(Role.DEFENDER, lambda kit: Positioning(kit.params, defender_spot),
                              "between the ball and its own goal"))

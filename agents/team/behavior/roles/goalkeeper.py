@@ -3,11 +3,11 @@ in its own goal area (``keeper.clear_ball_within_m``, ``keeper.clear_area_depth_
 
 from __future__ import annotations
 
-from agents.behavior.roles import goalkeeper_spot
+from agents.behavior.tactics.roles import goalkeeper_spot
+from agents.radio import Role
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.roles.positioning import Positioning
 from agents.team.behavior.roles.registry import Kit, RoleSpec, Situation, register
-from agents.team.messages import Role
 from agents.team.modelling.representations import WorldModel
 from world.field import FIELD
 

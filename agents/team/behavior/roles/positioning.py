@@ -1,15 +1,15 @@
-"""A role that walks to its spot (:mod:`agents.behavior.roles`), holding it at the other team's kick-off."""
+"""A role that walks to its spot (:mod:`agents.behavior.tactics.roles`), holding it at the other team's kick-off."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
 from agents.behavior import skills
-from agents.behavior.roles import position_from_spot
+from agents.behavior.tactics.roles import position_from_spot
+from agents.radio import Intention
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.roles.registry import Situation
 from agents.team.behavior.set_plays.kickoff_lane import HOLD, holds_lane
-from agents.team.messages import Intention
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
 

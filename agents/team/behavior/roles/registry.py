@@ -1,10 +1,10 @@
 """The role registry: every role the team agent can play, by name, and how a robot of it plays.
 
-A role is a name (the radio carries its code, :data:`agents.team.messages.ROLE_CODES`) and a factory
+A role is a name (the radio carries its code, :data:`agents.radio.ROLE_CODES`) and a factory
 of its player: an object whose ``play(world, situation)`` returns the step's motion request. The
 assignment (:mod:`.assignment`) gives player 0 the goalkeeper, the robot that reaches the ball first
 the striker, and the other field players :data:`FIELD_ROLES` by player number. A new role is a file
-that calls :func:`register` (and a free radio code, :func:`agents.team.messages.register_role_code`);
+that calls :func:`register` (and a free radio code, :func:`agents.radio.register_role_code`);
 placing it in :data:`FIELD_ROLES` (or choosing it in a subclass of the behaviour) puts it on the field.
 """
 

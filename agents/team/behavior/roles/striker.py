@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
+from agents.radio import Role
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.roles.registry import Kit, RoleSpec, Situation, register
-from agents.team.messages import Role
 from agents.team.modelling.representations import WorldModel
 
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 
 from agents.behavior import skills
+from agents.radio import Intention
 from agents.team.behavior.requests import MotionRequest
-from agents.team.messages import Intention
 from match.protocol import Pose2D
 
 

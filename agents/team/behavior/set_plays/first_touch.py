@@ -12,12 +12,12 @@ push: no slowing down, no side-step to a foot, no kick; together about 1.5 s).
 from __future__ import annotations
 
 from agents.behavior import skills
+from agents.radio import Intention
 from agents.team.behavior.geometry import heading_error
 from agents.team.behavior.kick_rules import may_kick
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.set_plays.throw_in import ThrowInTouch
 from agents.team.behavior.striker.context import StrikeContext
-from agents.team.messages import Intention
 from agents.team.params import TeamParams
 from match.protocol import Motion
 

@@ -8,8 +8,8 @@ its legs turned the ball toward its own goal.
 
 from __future__ import annotations
 
+from agents.radio import Intention
 from agents.team.behavior.requests import MotionRequest, STAND
-from agents.team.messages import Intention
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
 from match.protocol import KickOff

@@ -17,12 +17,12 @@ import enum
 import math
 
 from agents.behavior import skills
+from agents.radio import Intention
 from agents.team.behavior.framework import Option
 from agents.team.behavior.geometry import in_field
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.set_plays.throw_in import ThrowInTouch
 from agents.team.behavior.striker.context import StrikeContext
-from agents.team.messages import Intention
 from agents.team.params import TeamParams
 from match.protocol import Motion, Pose2D
 from world.field import FIELD

@@ -1,7 +1,7 @@
 """A throw-in's first touch: its state, whether the ball still waits for it, and which way it goes.
 
 After the referee puts the ball back, the striker takes the quickest first touch that sends the ball
-neither back toward the own goal nor out (:func:`agents.behavior.aim.restart_aim`): for
+neither back toward the own goal nor out (:func:`agents.behavior.tactics.aim.restart_aim`): for
 ``throw_in.quick_touch_s``, or up to ``throw_in.quick_untouched_s`` while the ball still lies where the
 striker first saw it after the put-back (within ``throw_in.quick_untouched_m``: its field position
 flickers with the pose estimate), and while the ball is near the throw-in line
@@ -16,7 +16,7 @@ from __future__ import annotations
 import enum
 import math
 
-from agents.behavior.aim import Aim, restart_aim
+from agents.behavior.tactics.aim import Aim, restart_aim
 from agents.modelling.ball_model import BallEstimate
 from agents.team.behavior.framework import Option
 from agents.team.modelling.representations import WorldModel
@@ -76,7 +76,7 @@ class ThrowInTouch:
 
     def aim(self, pose: Pose2D, ball_xy: tuple[float, float], near: bool, attack: float) -> Aim:
         """The touch's aim: the way the robot faces near the ball (``near``), else the way it comes at it,
-        kept from the last aim where the rule allows (:func:`agents.behavior.aim.restart_aim`)."""
+        kept from the last aim where the rule allows (:func:`agents.behavior.tactics.aim.restart_aim`)."""
         way = pose.theta if near else math.atan2(ball_xy[1] - pose.y, ball_xy[0] - pose.x)
         aim = restart_aim(ball_xy, way, attack, self.aim_rad)
         self.aim_rad = math.atan2(aim.y - ball_xy[1], aim.x - ball_xy[0])

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from agents.behavior.aim import Aim
-from agents.behavior.shot_window import ShotWindow
+from agents.behavior.tactics.aim import Aim
+from agents.behavior.tactics.shot_window import ShotWindow
 from agents.modelling.ball_model import BallEstimate
 from agents.team.modelling.representations import WorldModel
 from match.protocol import Pose2D

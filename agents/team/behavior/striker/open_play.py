@@ -2,7 +2,7 @@
 
 * :class:`ApproachTeamBall`: the team's ball (a teammate's, or a throw-in's spot), not its own: come at
   it from behind.
-* :class:`StalledPush`: a ball stalled at its feet (:mod:`agents.behavior.stall`): walk on through it,
+* :class:`StalledPush`: a ball stalled at its feet (:mod:`agents.behavior.tactics.stall`): walk on through it,
   away from the own goal, unless the own goal was seen ahead lately.
 * :class:`GoBehind`: the ball off the line from the aim: walk round to the spot behind it (from
   ``throw_in.quick_go_behind_beyond_m`` for a throw-in's first touch, else from
@@ -15,13 +15,13 @@
 from __future__ import annotations
 
 from agents.behavior import skills
-from agents.behavior.stall import STALL_NEAR_M, StallWatch, push_allowed
+from agents.behavior.tactics.stall import STALL_NEAR_M, StallWatch, push_allowed
+from agents.radio import Intention
 from agents.team.behavior.kick_rules import may_kick, own_goal_seen_lately
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.set_plays.first_touch import first_touch
 from agents.team.behavior.set_plays.throw_in import ThrowInTouch
 from agents.team.behavior.striker.context import StrikeContext
-from agents.team.messages import Intention
 from agents.team.params import TeamParams
 from match.protocol import Motion
 

@@ -2,20 +2,24 @@
 
 Without any ball it searches (:mod:`.search`); a ball going out is waited for behind the spot it comes
 back on (:mod:`agents.team.behavior.set_plays.ball_out`); a ball lying at the own goal line in front of
-the goal is held off (no way behind it but through the goal, :mod:`agents.behavior.goal_line`). Else it
-aims (:mod:`.targeting`) and plays the cards in order: the throw-in's first touches
+the goal is held off (no way behind it but through the goal, :mod:`agents.behavior.tactics.goal_line`).
+Else it aims (:mod:`.targeting`) and plays the cards in order: the team's ball and a stalled one
+(:mod:`.open_play`), a ball beside the own goal at its line cleared toward the side line
+(:mod:`agents.team.behavior.set_plays.clear_line`), the throw-in's first touches
 (:mod:`agents.team.behavior.set_plays`) and open play (:mod:`.open_play`). The goalkeeper clears a ball
 near it with the same option.
 """
 
 from __future__ import annotations
 
-from agents.behavior.goal_line import at_own_goal_line, hold_off
+from agents.behavior.tactics.goal_line import at_own_goal_line, hold_off
 from agents.modelling.ball_out import out_of_field
+from agents.radio import Intention
 from agents.team.behavior.framework import deck
 from agents.team.behavior.geometry import heading_error, in_field, into_field
 from agents.team.behavior.requests import MotionRequest
 from agents.team.behavior.set_plays.ball_out import wait_for_restart
+from agents.team.behavior.set_plays.clear_line import ClearLine
 from agents.team.behavior.set_plays.first_touch import QuickStep
 from agents.team.behavior.set_plays.side_tap import SideTap
 from agents.team.behavior.set_plays.throw_in import ThrowInTouch
@@ -23,7 +27,6 @@ from agents.team.behavior.striker.context import StrikeContext
 from agents.team.behavior.striker.open_play import ApproachTeamBall, Chase, GoBehind, StalledPush
 from agents.team.behavior.striker.search import search
 from agents.team.behavior.striker.targeting import Targeting
-from agents.team.messages import Intention
 from agents.team.modelling.representations import WorldModel
 from agents.team.params import TeamParams
 from world.field import FIELD
@@ -37,8 +40,8 @@ class Striker:
         self.targeting = Targeting(params)
         self.throw_in = ThrowInTouch(params)
         self.side_tap = SideTap(params, self.throw_in)
-        self.cards = (ApproachTeamBall(), StalledPush(params), self.side_tap, QuickStep(params, self.throw_in),
-                      GoBehind(params), Chase(params, self.throw_in))
+        self.cards = (ApproachTeamBall(), StalledPush(params), ClearLine(params, self.throw_in), self.side_tap,
+                      QuickStep(params, self.throw_in), GoBehind(params), Chase(params, self.throw_in))
         self.lining_up = False
 
     def play(self, world: WorldModel, following_kick: bool, looking_near_feet: bool,

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from agents.behavior import skills
+from agents.radio import Intention
 from agents.team.behavior.requests import MotionRequest
-from agents.team.messages import Intention
 from agents.team.params import TeamParams
 from match.protocol import Motion
 

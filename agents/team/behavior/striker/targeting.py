@@ -1,9 +1,9 @@
 """Where the striker plays its ball: the goal, the open part of its mouth, past a robot, or a clearing.
 
 Within ``kick.shooting_range_m`` of the goal, it kicks into the widest part of the mouth no robot it
-saw covers (:mod:`agents.behavior.shot_window`), farther out past a robot it saw in the way
-(:mod:`agents.behavior.kick_past`) once within ``kick.kick_past_near_m`` of its ball; a ball in front of
-its own goal is cleared out to the side, and one on their goal line pushed (:mod:`agents.behavior.aim`).
+saw covers (:mod:`agents.behavior.tactics.shot_window`), farther out past a robot it saw in the way
+(:mod:`agents.behavior.tactics.kick_past`) once within ``kick.kick_past_near_m`` of its ball; a ball in front of
+its own goal is cleared out to the side, and one on their goal line pushed (:mod:`agents.behavior.tactics.aim`).
 Each remembers the direction it chose last, so the aim does not flicker between windows. Lining a kick
 up with the ball at its feet (the bottom camera), it asks for the top camera's frame now and then: it
 sees the robots a kick must pass and the goal's posts.
@@ -15,9 +15,9 @@ import math
 from dataclasses import dataclass
 
 from agents.behavior import skills
-from agents.behavior.aim import Aim, kick_aim, on_their_goal_line
-from agents.behavior.kick_past import kick_past
-from agents.behavior.shot_window import ShotWindow, shot_window
+from agents.behavior.tactics.aim import Aim, kick_aim, on_their_goal_line
+from agents.behavior.tactics.kick_past import kick_past
+from agents.behavior.tactics.shot_window import ShotWindow, shot_window
 from agents.modelling.ball_model import BallEstimate
 from agents.team.params import TeamParams
 

@@ -41,7 +41,7 @@ class ShotWindowError(ValueError):
 @dataclass(frozen=True)
 class ShotWindow:
     """Where to shoot from the ball: ``direction_rad`` (field frame) toward ``aim_xy`` on the goal
-    line (m; for a kick past a robot, :mod:`agents.behavior.kick_past`, a point along the
+    line (m; for a kick past a robot, :mod:`agents.behavior.tactics.kick_past`, a point along the
     direction), the open interval's ``half_width_rad`` around it, the heading ``tolerance_rad``
     within which to kick, and whether the mouth was ``covered`` all over (then it is all of it)."""
 

@@ -58,8 +58,8 @@ class Unjammer:
     def _jammed(self) -> bool:
         if len(self._window) < (self._window.maxlen or 0):
             return False
-        commanded = sum(c for c, _ in self._window)
-        turned = sum(m for _, m in self._window)
+        commanded = sum([c for c, _ in self._window])
         if abs(commanded) < MIN_COMMANDED_RAD:
             return False
+        turned = sum([m for _, m in self._window])
         return turned * commanded < TURNED_SHARE * commanded * commanded  # turned less than the share, same sense

@@ -4,7 +4,7 @@ the ball would stop is turned just far enough to pass it.
 Seen in self-play: of the shots on target the defending team blocked, half hit the opposing
 striker standing 0.1-0.7 m in front of the ball (a kick takes 1.6 s; the opponent is there
 meanwhile, or already). Every robot within :data:`PAST_WITHIN_M` of the ball covers the
-directions within :data:`agents.behavior.shot_window.BLOCKER_RADIUS_M` of its centre, seen
+directions within :data:`agents.behavior.tactics.shot_window.BLOCKER_RADIUS_M` of its centre, seen
 from the ball (all of them when it stands nearer than that: then nothing passes it, and the
 kick goes at the goal as before). When the direction at the goal's centre is covered, the
 kick goes along the open direction nearest to it, :data:`PAST_MARGIN_RAD` inside the gap's
@@ -23,7 +23,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-from agents.behavior.shot_window import (
+from agents.behavior.skills import KICK_ROLL_M, SIDELINE_MARGIN_M
+from agents.behavior.tactics.shot_window import (
     BLOCKER_RADIUS_M,
     ShotWindow,
     ShotWindowError,
@@ -31,7 +32,6 @@ from agents.behavior.shot_window import (
     open_intervals,
     relative,
 )
-from agents.behavior.skills import KICK_ROLL_M, SIDELINE_MARGIN_M
 from world.field import FIELD
 
 PAST_WITHIN_M = 1.0  # ours: robots this near the ball are in a kick's way

@@ -22,7 +22,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from agents.team.messages import Role
+from agents.radio import Role
 from match.protocol import Pose2D
 from world.field import FIELD
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import logging
 import math
-import struct
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -44,6 +43,7 @@ from agents.behavior.skills import (
     walk_command,
 )
 from agents.observation import Observation, RadioPacket
+from agents.radio import TeamMessage, decode
 from agents.vision.ball import BallPercept, find_ball
 from match.protocol import CameraChoice, GameState, GoalColor, Motion, make_action
 from world.camera_model import CameraPosition
@@ -56,7 +56,6 @@ BALL_MEMORY_STEPS = 12
 YIELD_MARGIN_M = 0.3  # hold position when a teammate is this much nearer to the ball
 
 RADIO_EVERY_STEPS = 5
-REPORT = struct.Struct("<Bff")  # player, ball distance m (-1 unknown), ball bearing rad
 TEAMMATE_MEMORY_STEPS = 12
 LONE_SILENCE_STEPS = round(LONE_SILENCE_S / CONTROL_STEP_S)  # then the keeper chases the ball (a team of one)
 UNKNOWN_DISTANCE_M = -1.0
@@ -82,21 +81,25 @@ class Command:
 
 
 def encode_report(player: int, ball: BallPercept | None) -> bytes:
-    """The radio packet announcing this robot's ball estimate."""
-    if ball is None:
-        return REPORT.pack(player, UNKNOWN_DISTANCE_M, 0.0)
-    return REPORT.pack(player, ball.distance_m, ball.bearing_rad)
+    """The radio packet (:mod:`agents.radio`) announcing this robot's ball as it sees it (torso frame):
+    it has no pose to put it in the field."""
+    relative = None if ball is None else (ball.distance_m, ball.bearing_rad)
+    return TeamMessage(player, ball_relative=relative).encode()
 
 
 def decode_reports(packets: tuple[RadioPacket, ...], own_player: int) -> tuple[TeammateReport, ...]:
-    """Teammates' ball reports among the packets received; packets of another layout are ignored."""
+    """Teammates' ball reports among the packets received (a teammate without a ball of its own reports
+    :data:`UNKNOWN_DISTANCE_M`); packets that are not the radio's format, or not from their sender, are
+    ignored."""
     reports = []
     for packet in packets:
-        if packet.sender == own_player or len(packet.data) != REPORT.size:
+        if packet.sender == own_player:
             continue
-        player, distance, bearing = REPORT.unpack(packet.data)
-        if player == packet.sender and math.isfinite(distance) and math.isfinite(bearing):
-            reports.append(TeammateReport(packet.sender, distance, bearing))
+        message = decode(packet.data)
+        if message is None or message.player != packet.sender:
+            continue
+        distance, bearing = (UNKNOWN_DISTANCE_M, 0.0) if message.ball_relative is None else message.ball_relative
+        reports.append(TeammateReport(packet.sender, distance, bearing))
     return tuple(reports)
 
 
