@@ -62,16 +62,17 @@ def end_session(leader: int) -> None:
         os.killpg(leader, signal.SIGKILL)
 
 
-def end_orphans() -> int:
-    """Kill and reap this process's children that live in another session than its own: processes a
+def end_orphans(spared: frozenset[int] = frozenset()) -> int:
+    """Kill and reap this process's children that live in another session than its own, but those in
+    ``spared`` (the children it had before its controllers started, see :func:`children`): processes a
     policy started that outlived their controller (reparented here, see :func:`guard_simulator`). The
     server processes of :mod:`multiprocessing` share this process's session and are left alone.
     Returns how many were ended (Linux only; 0 elsewhere)."""
     own_session = os.getsid(0)
     ended = 0
-    for pid in _children():
+    for pid in children():
         try:
-            if os.getsid(pid) == own_session:
+            if pid in spared or os.getsid(pid) == own_session:
                 continue
             os.kill(pid, signal.SIGKILL)
         except OSError:
@@ -84,7 +85,7 @@ def end_orphans() -> int:
     return ended
 
 
-def _children() -> list[int]:
+def children() -> list[int]:
     """The pids of this process's children (from ``/proc``; none where it is missing)."""
     own = os.getpid()
     children = []

@@ -57,7 +57,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from match.confinement import confine_controller, end_orphans, end_session, guard_simulator
+from match.confinement import children, confine_controller, end_orphans, end_session, guard_simulator
 from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, Thinker, check_pose
@@ -239,9 +239,12 @@ class ProcessControllers:
         self._askable_now: set[int] = set()
         self._estimates: dict[str, PoseTuple | None] = dict.fromkeys(self.agents)
         self._reports: dict[str, AgentReport | None] = dict.fromkeys(self.agents)
+        self._spared: frozenset[int] | None = None
 
     def start(self, seeds: Mapping[str, int]) -> Decision:
         guard_simulator()
+        if self._spared is None:  # the children this process had of its own, before any controller started
+            self._spared = frozenset(children())
         faults: list[PolicyFault] = []
         for controller in self._controllers:
             controller.stop()  # from an earlier match, if any
@@ -322,7 +325,7 @@ class ProcessControllers:
         self._step_open, self._offered, self._asked, self._step_faults = False, {}, [], []
         for controller in self._controllers:
             controller.stop()
-        end_orphans()
+        end_orphans(self._spared or frozenset())
 
     def _open_step(self) -> None:
         """Begin a step once: read the late answers that arrived, then restart the dead, hung or too big."""
