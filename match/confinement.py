@@ -23,6 +23,8 @@ import os
 import signal
 import sys
 
+from world.process_memory import stat_fields
+
 log = logging.getLogger(__name__)
 
 PR_SET_PDEATHSIG = 1
@@ -96,11 +98,7 @@ def children() -> list[int]:
     for entry in entries:
         if not entry.isdigit():
             continue
-        try:
-            with open(f"/proc/{entry}/stat", "rb") as stat:
-                fields = stat.read().rsplit(b")", 1)[1].split()
-        except OSError:
-            continue
-        if len(fields) > 1 and int(fields[1]) == own:
+        fields = stat_fields(int(entry))
+        if fields is not None and len(fields) > 1 and int(fields[1]) == own:
             children.append(int(entry))
     return children

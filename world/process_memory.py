@@ -43,9 +43,18 @@ def cpu_seconds(pid: int) -> float | None:
             return int(schedstat.read().split()[0]) / 1e9
     except (OSError, ValueError, IndexError):
         pass
+    fields = stat_fields(pid)
+    try:
+        return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS_PER_S if fields else None
+    except (ValueError, IndexError):
+        return None
+
+
+def stat_fields(pid: int) -> list[bytes] | None:
+    """The fields of ``/proc/PID/stat`` after the command name (the first is the state, the second the
+    parent's pid), None where the system does not say."""
     try:
         with open(f"/proc/{pid}/stat", "rb") as stat:
-            fields = stat.read().rsplit(b")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS_PER_S
-    except (OSError, ValueError, IndexError):
+            return stat.read().rsplit(b")", 1)[1].split()
+    except (OSError, IndexError):
         return None
