@@ -12,6 +12,7 @@ $(STAMP): pyproject.toml Makefile
 	$(PY) -m pip install --upgrade pip
 	$(PY) -m pip install -e '.[test,ray,browser,learn]'
 	$(PY) -m world.raster.compile
+	$(PY) -m agents.vision.compile
 	touch $@
 
 test: install

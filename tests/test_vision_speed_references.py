@@ -22,7 +22,8 @@ from agents.vision.frame import CameraFrame
 from agents.vision.goals import find_posts, longest_vertical_runs
 from agents.vision.lines.classification import fit_polynomial
 from agents.vision.lines.scan_lines import NEIGHBOURS_ALLOWED, NEIGHBOURS_THESIS, continuity, scan_black_lines
-from agents.vision.segmentation import clean_outliers
+from agents.vision.kernels import LEVEL_SHIFT
+from agents.vision.segmentation import ColorTable, clean_outliers, load_thresholds
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
 from world.field import GoalColor
 
@@ -290,3 +291,23 @@ def test_scan_lines_agree_with_a_pixel_by_pixel_scan(dist: int, allowed: tuple):
         black = scan_black_lines(labels, border, dist, allowed)
         found = list(zip(black.column.tolist(), black.top.tolist(), black.bottom.tolist(), black.rejected_by.tolist()))
         assert found == reference_black_lines(labels, border, dist, {int(c) for c in allowed})
+
+
+def test_the_compiled_classification_is_the_colour_tables_lookup():
+    table = ColorTable(load_thresholds())
+    rng = np.random.default_rng(11)
+    for image in [rng.integers(0, 256, (120, 160, 3), dtype=np.uint8) for _ in range(5)]:
+        q = image.astype(np.intp) >> LEVEL_SHIFT
+        expected = table.table[(q[..., 0] << 12) | (q[..., 1] << 6) | q[..., 2]]
+        assert np.array_equal(table.classify(image), expected)
+        assert np.array_equal(table.classify(image[::2, ::-1]), expected[::2, ::-1])  # views of any layout
+
+
+def test_the_segmentation_refuses_what_is_not_an_rgb_image_or_labels():
+    table = ColorTable(load_thresholds())
+    with pytest.raises(ValueError, match="RGB uint8"):
+        table.classify(np.zeros((120, 160, 3), np.int64))
+    with pytest.raises(ValueError, match="RGB uint8"):
+        table.classify(np.zeros((120, 160), np.uint8))
+    with pytest.raises(ValueError, match="uint8"):
+        clean_outliers(np.zeros((4, 4), np.int32))

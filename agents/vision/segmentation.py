@@ -23,10 +23,10 @@ import numpy as np
 
 from agents.vision.colors import PRIORITY, UNFITTED, ColorClass
 from agents.vision.errors import ColorTableError
+from agents.vision.kernels import LEVEL_SHIFT, classify_pixels, clean_isolated
 
 LOG = logging.getLogger(__name__)
 
-LEVEL_SHIFT = 2  # 256 levels -> 64 per channel in the table
 LEVELS = 256 >> LEVEL_SHIFT
 DEFAULT_THRESHOLDS_RESOURCE = "color_thresholds.json"
 
@@ -142,48 +142,22 @@ class ColorTable:
 
     def classify(self, image: np.ndarray) -> np.ndarray:
         """Raw class labels (H, W) uint8 of an RGB uint8 image (H, W, 3), before cleaning."""
-        q = image >> LEVEL_SHIFT
-        index = (q[..., 0].astype(np.intp) << 12) | (q[..., 1].astype(np.intp) << 6) | q[..., 2]
-        return self.table[index]
+        if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3:
+            raise ValueError(f"classify() takes an RGB uint8 image (H, W, 3); got {image.dtype} {image.shape}")
+        return classify_pixels(image, self.table)
 
     def segment(self, image: np.ndarray) -> np.ndarray:
         """Cleaned class labels (H, W) uint8 of an RGB uint8 image: the thesis' segmented image."""
         return clean_outliers(self.classify(image))
 
 
-_NEIGHBOURS = ((-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1))
-PAD_LABEL = 255  # the label of the pixels around the image: no class
-
-
 def clean_outliers(labels: np.ndarray) -> np.ndarray:
-    """The thesis' neighbour check (section 4.1), on a copy of ``labels``.
+    """The thesis' neighbour check (section 4.1), on a copy of ``labels`` (H, W) uint8.
 
     A non-white pixel with no 8-neighbour of its own class becomes white; a white pixel
     with no white 8-neighbour becomes orange when most of its neighbours are orange, and
-    green otherwise.
-
-    Only a pixel whose left and right neighbours both differ from it can be isolated: the
-    neighbours of those few pixels alone are read.
+    green otherwise (:func:`agents.vision.kernels.clean_isolated`).
     """
-    h, w = labels.shape
-    out = labels.copy()
-    differs = np.ones((h, w + 1), bool)  # differs[r, c]: pixel (r, c) differs from (r, c - 1)
-    differs[:, 1:-1] = labels[:, 1:] != labels[:, :-1]
-    candidates = np.flatnonzero(differs[:, :-1] & differs[:, 1:])  # flat pixel indices
-    if len(candidates) == 0:
-        return out
-    padded = np.full((h + 2, w + 2), PAD_LABEL, labels.dtype)
-    padded[1:-1, 1:-1] = labels
-    rows, cols = np.divmod(candidates, w)
-    offsets = np.array([dr * (w + 2) + dc for dr, dc in _NEIGHBOURS])
-    around = padded.reshape(-1)[((rows + 1) * (w + 2) + cols + 1)[:, None] + offsets]  # (N, 8) neighbour labels
-    own = padded[rows + 1, cols + 1]
-    isolated = (around != own[:, None]).all(axis=1)
-    white = own == int(ColorClass.WHITE)
-    flat_out = out.reshape(-1)
-    flat_out[candidates[isolated & ~white]] = int(ColorClass.WHITE)
-    lone_white = isolated & white
-    if lone_white.any():
-        orange = np.count_nonzero(around[lone_white] == int(ColorClass.ORANGE), axis=1)
-        flat_out[candidates[lone_white]] = np.where(orange >= 4, int(ColorClass.ORANGE), int(ColorClass.GREEN))
-    return out
+    if labels.dtype != np.uint8 or labels.ndim != 2:
+        raise ValueError(f"clean_outliers() takes class labels (H, W) uint8; got {labels.dtype} {labels.shape}")
+    return clean_isolated(labels)

@@ -25,6 +25,7 @@ import numpy as np
 
 from agents.vision.border import FieldBorder
 from agents.vision.colors import ColorClass
+from agents.vision.kernels import white_runs
 
 DIST = 5  # thesis 4.5.1: "every fifth column", called dist
 LONG_RUN_MIN_PX = 3  # thesis 4.5.1 criterion 3: average over black lines "larger than three pixels"
@@ -101,18 +102,6 @@ def _forbidden_beside(neighbours_allowed: tuple[ColorClass, ...]) -> np.ndarray:
     return forbidden
 
 
-@functools.lru_cache(maxsize=4)
-def _neighbour_columns(width: int, dist: int) -> tuple[np.ndarray, np.ndarray]:
-    """The columns left, then right, of the scan columns, and whether each is in the image (read-only)."""
-    columns = scan_columns(width, dist)
-    neighbours = np.concatenate([columns - 1, columns + 1])
-    in_image = (neighbours >= 0) & (neighbours < width)
-    neighbours = np.minimum(np.maximum(neighbours, 0), width - 1)
-    neighbours.setflags(write=False)
-    in_image.setflags(write=False)
-    return neighbours, in_image
-
-
 def scan_columns(width: int, dist: int = DIST) -> np.ndarray:
     """The scanned columns: 0, dist, 2 dist, ..."""
     return np.arange(0, width, dist)
@@ -135,35 +124,11 @@ def scan_black_lines(
     columns = scan_columns(width, dist)
     start = np.ceil(border.row_at(columns) - 1e-9).astype(np.int64)
     start = np.minimum(np.maximum(start, 0), height)
-    scanned = labels[:, columns].T  # (K, H): scan column by scan column, so nonzero() walks column-major
-    white = (scanned == WHITE) & (np.arange(height) >= start[:, None])
-    # Runs: a top is a white pixel below a non-white one, a bottom one above a non-white one.
-    tops = white.copy()
-    tops[:, 1:] &= ~white[:, :-1]
-    bottoms = white.copy()
-    bottoms[:, :-1] &= ~white[:, 1:]
-    k_top, top = np.divmod(np.flatnonzero(tops), height)  # flat nonzero(): faster than a 2-D one
-    bottom = np.flatnonzero(bottoms) % height
+    k_top, top, bottom, rejected = white_runs(np.ascontiguousarray(labels, np.uint8), columns, start,
+                                              _forbidden_beside(neighbours_allowed), WHITE, GREEN)
     if len(top) == 0:
         return BlackLines.empty()
     column = columns[k_top]
-    rejected = np.zeros(len(top), np.int64)
-
-    # Criterion 1: the pixels just above and just below are green (and inside the scan).
-    above_ok = top > start[k_top]
-    above_ok &= scanned[k_top, np.maximum(top - 1, 0)] == GREEN
-    below_ok = bottom < height - 1
-    below_ok &= scanned[k_top, np.minimum(bottom + 1, height - 1)] == GREEN
-    rejected[~(above_ok & below_ok)] = 1
-
-    # Criterion 2: the left/right neighbours of interior points (rows top+1..bottom-1) are white.
-    neighbours, in_image = _neighbour_columns(width, dist)
-    beside = _forbidden_beside(neighbours_allowed)[labels[:, neighbours].T] & in_image[:, None]
-    beside = beside[: len(columns)] | beside[len(columns) :]  # (K, H): left or right of the scan column
-    bad = np.zeros((len(columns), height + 1), np.int32)
-    np.cumsum(beside, axis=1, out=bad[:, 1:])
-    interior_bad = bad[k_top, np.maximum(bottom, top + 1)] - bad[k_top, top + 1]
-    rejected[(rejected == KEPT) & (interior_bad > 0)] = 2
 
     # Criterion 3: not longer than twice the average length of all black lines longer than 3 px.
     length = bottom - top + 1
