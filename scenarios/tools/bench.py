@@ -11,7 +11,6 @@ runs' figures side by side (``robotstadium bench --compare``).
 from __future__ import annotations
 
 import contextlib
-import itertools
 import json
 import logging
 import math
@@ -51,6 +50,10 @@ log = logging.getLogger(__name__)
 DEFAULT_REPEATS = 200
 QUICK_REPEATS = 20
 RENDER_WARMUP = 10
+RENDER_BLOCK = 10
+"""Frames one renderer draws before the other takes its turn: each is timed in its own steady state (its
+data in the processor's caches, as in a match, where one renderer draws every frame), and both within the
+same minute of the machine's load."""
 PHYSICS_WARMUP = 25
 SETTLE_STEPS = 5
 
@@ -132,20 +135,18 @@ def check_all_in_view(world: World, viewer: str, others: Sequence[str]) -> None:
 def bench_render(repeats: int) -> dict[str, float]:
     """One 160x120 robot camera frame with all 8 robots in the scene and 7 of them in view, each from a
     new camera pose (:data:`RENDER_HEAD_YAWS_RAD`; the head's turn and the control step are not timed),
-    by the compiled renderer (``render``) and, frame by frame in turn with it, by the reference
-    renderer, TinyRenderer with the analytic hall (``render_*_tiny``)."""
+    by the compiled renderer (``render``) and, in turns of :data:`RENDER_BLOCK` frames with it, by the
+    reference renderer, TinyRenderer with the analytic hall (``render_*_tiny``)."""
     with _render_scenes() as worlds:
         samples = {name: np.empty(repeats) for name in worlds}
-        yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
-        for i in range(RENDER_WARMUP + repeats):
-            yaw = next(yaws)
-            for name, world in worlds.items():
-                world.set_head(RENDER_VIEWER, yaw, SCAN_PITCH_RAD)
-                world.step(1)
-                start = time.perf_counter()
-                world.render_camera(RENDER_VIEWER)
-                if i >= RENDER_WARMUP:
-                    samples[name][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
+        for name, i in _turns(tuple(worlds), RENDER_WARMUP + repeats):
+            world = worlds[name]
+            world.set_head(RENDER_VIEWER, RENDER_HEAD_YAWS_RAD[i % len(RENDER_HEAD_YAWS_RAD)], SCAN_PITCH_RAD)
+            world.step(1)
+            start = time.perf_counter()
+            world.render_camera(RENDER_VIEWER)
+            if i >= RENDER_WARMUP:
+                samples[name][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
     metrics = {**summarize("render", samples["numba"]), **_suffixed(summarize("render", samples["tiny"]), "_tiny")}
     metrics["render_tiny_over_numba_ratio"] = metrics["render_ms_median_tiny"] / metrics["render_ms_median"]
     return metrics
@@ -165,6 +166,15 @@ def _render_scenes() -> Iterator[dict[str, World]]:
             world.close()
 
 
+def _turns(names: tuple[str, ...], count: int) -> Iterator[tuple[str, int]]:
+    """``(name, i)`` for ``i`` in ``range(count)`` of each name, the names taking turns by blocks of
+    :data:`RENDER_BLOCK` frames."""
+    for first in range(0, count, RENDER_BLOCK):
+        for name in names:
+            for i in range(first, min(first + RENDER_BLOCK, count)):
+                yield name, i
+
+
 def _suffixed(metrics: dict[str, float], suffix: str) -> dict[str, float]:
     return {f"{key}{suffix}": value for key, value in metrics.items()}
 
@@ -173,26 +183,23 @@ def bench_cameras(repeats: int) -> dict[str, float]:
     """Every robot's camera frame of one step (8 cameras, :meth:`World.render_cameras`) in the scene of
     :func:`bench_render`, each step from new head angles, by the compiled renderer on numba's threads
     (``cameras_per_step``), on one thread (``*_serial``) and by the reference renderer (``*_tiny``), in
-    turn step by step."""
+    turns of :data:`RENDER_BLOCK` steps."""
     variants = {"": ("numba", True), "_serial": ("numba", False), "_tiny": ("tiny", None)}
     with _render_scenes() as worlds:
         samples = {suffix: np.empty(repeats) for suffix in variants}
-        yaws = itertools.cycle(RENDER_HEAD_YAWS_RAD)
-        for i in range(RENDER_WARMUP + repeats):
-            yaw = next(yaws)
-            for world in worlds.values():
-                for robot in world.robot_ids:
-                    world.set_head(robot, yaw, SCAN_PITCH_RAD)
-                world.step(1)
-            for suffix, (name, parallel) in variants.items():
-                world = worlds[name]
-                if world.compiled_renderer is not None:
-                    world.compiled_renderer.parallel = parallel
-                start = time.perf_counter()
-                for _ in world.render_cameras(world.robot_ids):
-                    pass
-                if i >= RENDER_WARMUP:
-                    samples[suffix][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
+        for suffix, i in _turns(tuple(variants), RENDER_WARMUP + repeats):
+            name, parallel = variants[suffix]
+            world = worlds[name]
+            for robot in world.robot_ids:
+                world.set_head(robot, RENDER_HEAD_YAWS_RAD[i % len(RENDER_HEAD_YAWS_RAD)], SCAN_PITCH_RAD)
+            world.step(1)
+            if world.compiled_renderer is not None:
+                world.compiled_renderer.parallel = parallel
+            start = time.perf_counter()
+            for _ in world.render_cameras(world.robot_ids):
+                pass
+            if i >= RENDER_WARMUP:
+                samples[suffix][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
     metrics: dict[str, float] = {}
     for suffix, values in samples.items():
         metrics.update(_suffixed(summarize("cameras_per_step", values), suffix))
