@@ -16,6 +16,7 @@ from scenarios.localization.file import (
     load_scenario,
     parse_scenario,
 )
+from scenarios.localization.batch import with_overrides
 from scenarios.localization.spec import RobotEntry, ThesisReference
 
 ALL_METHODS = ("thesis", "particle", "hybrid", "odometry")
@@ -110,6 +111,8 @@ MALFORMED = [
     ("duplicate method", doc('samples = 10\nmethods = ["thesis", "hybrid", "thesis"]'), "methods[2]", "got 'thesis'"),
     ("empty methods", doc("samples = 10\nmethods = []"), "methods", "got []"),
     ("bad camera model", doc('samples = 10\ncamera_model = "fisheye"'), "camera_model", "got 'fisheye'"),
+    ("bad camera profile", doc('samples = 10\ncamera_profile = "webcam"'), "camera_profile", "got 'webcam'"),
+    ("camera profile not a string", doc("samples = 10\ncamera_profile = 1"), "camera_profile", "got 1"),
     ("nan half_seconds", doc(tables="[match]\nhalf_seconds = nan"), "match.half_seconds", "got nan"),
     ("negative motion_scale", doc(tables="[noise]\nmotion_scale = -0.5"), "noise.motion_scale", "got -0.5"),
     ("negative warmup", doc(tables="[limits]\nwarmup_seconds = -1"), "limits.warmup_seconds", "got -1"),
@@ -259,6 +262,17 @@ def test_user_file_with_fixed_start(tmp_path):
     assert start.theta == pytest.approx(math.pi / 2)
     assert spec.robots[1] == RobotEntry("home_0", "stand", False, None)
     assert spec.run_samples() == (3, 2, 2)
+    assert spec.camera_profile == "clean"
+
+
+def test_a_file_chooses_the_camera_profile_and_the_command_line_overrides_it(tmp_path):
+    path = tmp_path / "nao.toml"
+    path.write_text(doc('samples = 5\ncamera_profile = "nao"'), encoding="utf-8")
+    spec = load_scenario(path)
+    assert spec.camera_profile == "nao"
+    assert spec.fingerprint() != dataclasses.replace(spec, camera_profile="clean").fingerprint()
+    assert with_overrides(spec, camera_profile="robotstadium").camera_profile == "robotstadium"
+    assert with_overrides(spec).camera_profile == "nao"
 
 
 def test_defaults_of_a_minimal_file():

@@ -40,6 +40,7 @@ from scenarios.common.untrusted import SmallFileError, read_small_file
 from scenarios.common.limits import HALF_SECONDS_MAX, HALF_SECONDS_MIN, MAX_SAMPLES
 from scenarios.localization.spec import MEASURABLE_POLICIES, RobotEntry, ScenarioSpec, ThesisReference
 from world.field import FIELD, Pose2D
+from world.camera_profiles import CAMERA_PROFILES, DEFAULT_CAMERA_PROFILE
 
 log = logging.getLogger(__name__)
 
@@ -55,6 +56,7 @@ _TOP_KEYS = (
     "seed",
     "methods",
     "camera_model",
+    "camera_profile",
     "referee",
     "match",
     "noise",
@@ -185,6 +187,7 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
                 top.fail(key, "no methods or camera_model with [sampling]: each measured robot's policy localizes "
                          "its own way", top.get(key))
         methods, camera_model = (), "exact"
+    camera_profile = top.string("camera_profile", default=DEFAULT_CAMERA_PROFILE, choices=tuple(CAMERA_PROFILES))
     referee = top.boolean("referee", default=False)
     half_seconds = top.table("match", _MATCH_KEYS).number("half_seconds", default=600.0, low=HALF_SECONDS_MIN,
                                                           high=HALF_SECONDS_MAX)
@@ -213,6 +216,7 @@ def parse_scenario(data: dict, path: str) -> ScenarioSpec:
         thesis,
         warmup,
         period,
+        camera_profile,
     )
 
 
