@@ -35,6 +35,7 @@ from scenarios.perception.scoring import (
 )
 from world.field import FIELD, LandmarkId, LandmarkKind, Pose2D
 from scenarios.perception.truth import to_torso, true_landmarks
+from world.config import WorldConfig
 from world.world import World
 
 KIND_VALUES = {k.value for k in LandmarkKind}
@@ -193,12 +194,33 @@ def test_a_staged_crowd_stands_apart_and_a_close_robot_hides_a_landmark() -> Non
         assert not _t_junction_left(world).visible
 
 
+@pytest.mark.render
+def test_with_a_head_rate_the_frame_is_taken_while_the_head_turns_and_the_profile_smears_it() -> None:
+    """The same staged frame in a clean world and under the robotstadium profile: with the head still, they
+    differ by the profile's faint noise alone; turning at 2 rad/s, edges smear by several pixels."""
+    setup = FrameSetup(Pose2D(0.0, 0.0, math.pi / 2), 0.0)
+    smeared = {}
+    for rate in (0.0, 2.0):
+        images = {}
+        for profile in ("clean", "robotstadium"):
+            with World(roster(), WorldConfig(camera_profile=profile), seed=0) as world:
+                park_others(world, 0)
+                stage_frame(world, setup, rate)
+                assert world.sensors(MEASURED).head_yaw_rad == pytest.approx(0.0, abs=1e-3)
+                images[profile] = world.render_camera(MEASURED).astype(int)
+        difference = np.abs(images["clean"] - images["robotstadium"]).max(axis=2)
+        smeared[rate] = float(np.mean(difference > 12))  # far beyond the noise's 1.5 levels
+    assert smeared[0.0] == 0.0
+    assert smeared[2.0] > 0.01
+
+
 def _t_junction_left(world: World) -> TrueLandmark:
     return next(t for t in true_landmarks(world, MEASURED, 4.0) if t.landmark.id is LandmarkId.T_JUNCTION_LEFT)
 
 
 @pytest.mark.parametrize("kwargs", [{"frames": 0}, {"frames": 1, "crowd": 8}, {"frames": 1, "models": ("fisheye",)},
-                                    {"frames": 1, "max_range_m": 0.0}])
+                                    {"frames": 1, "max_range_m": 0.0}, {"frames": 1, "head_rate_radps": -1.0},
+                                    {"frames": 1, "head_rate_radps": 6.0}, {"frames": 1, "head_rate_radps": math.nan}])
 def test_config_rejects_bad_values(kwargs: dict) -> None:
     with pytest.raises(PerceptionConfigError, match="got"):
         PerceptionConfig(**kwargs)
@@ -215,6 +237,10 @@ def test_cli_rejects_zero_frames_with_exit_2(tmp_path: Path, capsys: pytest.Capt
     with pytest.raises(SystemExit) as exit_info:
         cli.main(["perception", "--frames", "1", "--examples", "-1", "--out", str(tmp_path), "--no-progress"])
     assert exit_info.value.code == 2
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(["perception", "--frames", "1", "--head-rate", "9", "--out", str(tmp_path), "--no-progress"])
+    assert exit_info.value.code == 2
+    assert "argument --head-rate: expected a number in [0, 5]" in capsys.readouterr().err
 
 
 # ---- real runs -----------------------------------------------------------------------------------

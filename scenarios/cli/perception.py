@@ -16,7 +16,7 @@ from scenarios.cli.arguments import (
     name_list,
     number_in,
 )
-from scenarios.perception.records import MAX_CROWD, PerceptionConfig
+from scenarios.perception.records import MAX_CROWD, MAX_HEAD_RATE_RADPS, PerceptionConfig
 from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 
 NAME = "perception"
@@ -48,6 +48,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--examples", type=int_in(0, MAX_EXAMPLES), default=6, metavar="N",
                         help=f"annotated PNGs of frames with a false positive or a miss, 0-{MAX_EXAMPLES} (default 6)")
     add_camera_profile(parser)
+    parser.add_argument("--head-rate", type=number_in(0.0, MAX_HEAD_RATE_RADPS), default=0.0, metavar="RADPS",
+                        help="the head turns at this rate (rad/s) through each frame's control step, so the camera "
+                             f"profile blurs and shears the frame as in a head scan, 0-{MAX_HEAD_RATE_RADPS:g} "
+                             "(default 0: the head is still)")
     add_no_progress(parser)
 
 
@@ -57,9 +61,9 @@ def run(args: argparse.Namespace) -> int:
     profile = args.camera_profile or DEFAULT_CAMERA_PROFILE
     command = (f"robotstadium perception --frames {args.frames} --seed {args.seed} --out {args.out} "
                f"--crowd {args.crowd} --models {','.join(args.models)} --max-range-m {args.max_range_m:g} "
-               f"--camera-profile {profile}")
+               f"--camera-profile {profile} --head-rate {args.head_rate:g}")
     config = PerceptionConfig(args.frames, args.seed, args.crowd, args.models, args.max_range_m,
-                              args.progress, args.examples, command, profile)
+                              args.progress, args.examples, command, profile, args.head_rate)
     summary = run_perception(args.out, config)
     print((Path(args.out) / "table.md").read_text())
     print(f"{summary['frames']} frames in {summary['wall_seconds']:.1f} s; "

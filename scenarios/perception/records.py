@@ -21,6 +21,8 @@ MAX_CROWD = len(CROWD_ORDER)
 SETTLE_STEPS = (15, 40)  # control steps before the frame, drawn uniformly per frame. Measured: the head is
 # on target after 1 step, the body tilt within ~8; the accelerometer of a robot standing still keeps
 # jittering (up to ~7 deg of apparent tilt), so a random settle time samples that jitter fairly
+MAX_HEAD_RATE_RADPS = 5.0  # rad/s: beyond a Nao's fastest head turn (its yaw joint's speed limit is about 8 rad/s
+# unloaded, head scans run at 1-2 rad/s)
 FALSE_TILT_DEG = 2.0  # a frame whose accelerometer tilt differs from the true tilt by more is counted
 
 
@@ -39,6 +41,7 @@ class PerceptionConfig:
     examples: int = 6  # annotated PNGs of frames where the first model erred (false positives first)
     command: str = ""  # the command line, quoted in table.md
     camera_profile: str = DEFAULT_CAMERA_PROFILE  # the camera's image profile (world.camera_profiles)
+    head_rate_radps: float = 0.0  # the head turns at this rate through each frame's control step (0: still)
 
     def __post_init__(self) -> None:
         if not isinstance(self.frames, int) or self.frames < 1:
@@ -57,6 +60,9 @@ class PerceptionConfig:
         if not isinstance(self.camera_profile, str) or self.camera_profile not in CAMERA_PROFILES:
             raise PerceptionConfigError(f"camera_profile must be one of {', '.join(CAMERA_PROFILES)}; "
                                         f"got {self.camera_profile!r}")
+        if not (isinstance(self.head_rate_radps, (int, float)) and 0.0 <= self.head_rate_radps <= MAX_HEAD_RATE_RADPS):
+            raise PerceptionConfigError(f"head_rate_radps must be a number in [0, {MAX_HEAD_RATE_RADPS:g}]; "
+                                        f"got {self.head_rate_radps!r}")
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,8 @@ in the thesis' scan posture (top camera, head pitch 17 degrees down, head yaw on
 five scan yaws -80, -40, 0, 40, 80 degrees, thesis 5.1), with ``crowd`` other robots of both
 teams standing uniformly on the field, at least ``MIN_SEPARATION_M`` from it and from each
 other, heading anywhere. Robots not in the crowd, and the ball, wait off the carpet. After
-a random settle time (``SETTLE_STEPS``) the camera frame is rendered, every camera model's pipeline
+a random settle time (``SETTLE_STEPS``) the camera frame is rendered (with ``--head-rate``, while the
+head turns at that rate: :func:`stage_frame`), every camera model's pipeline
 processes it, and its percepts are scored (:mod:`scenarios.perception.scoring`) against the
 true landmarks (:mod:`scenarios.perception.truth`).
 """
@@ -91,14 +92,22 @@ def sample_setup(rng: np.random.Generator, crowd: int) -> FrameSetup:
     return FrameSetup(Pose2D(x, y, theta), yaw, tuple(others), settle)
 
 
-def stage_frame(world: World, setup: FrameSetup) -> None:
-    """Put the robots of ``setup`` in place and let them settle."""
+def stage_frame(world: World, setup: FrameSetup, head_rate_radps: float = 0.0) -> None:
+    """Put the robots of ``setup`` in place and let them settle. With ``head_rate_radps``, the head
+    settles one control step short of its yaw, a frame is taken there (the camera profile's previous
+    frame, not scored), and the head turns on to the yaw in the frame's control step: the camera
+    profile blurs and shears the frame by that turn, as in a head scan."""
+    step_rad = head_rate_radps * world.config.physics.control_step_s
     world.place_robot(MEASURED, setup.pose)
     world.set_camera(MEASURED, CameraPosition.TOP)
-    world.set_head(MEASURED, setup.head_yaw_rad, SCAN_PITCH_RAD)
+    world.set_head(MEASURED, setup.head_yaw_rad - step_rad, SCAN_PITCH_RAD)
     for robot_id, pose in zip(CROWD_ORDER, setup.crowd):
         world.place_robot(robot_id, pose)
     world.step(setup.settle_steps)
+    if step_rad > 0.0:
+        world.render_camera(MEASURED)
+        world.set_head(MEASURED, setup.head_yaw_rad, SCAN_PITCH_RAD)
+        world.step(1)
 
 
 def park_others(world: World, crowd: int) -> None:
@@ -123,7 +132,7 @@ def run_perception(out_dir: Path, config: PerceptionConfig) -> dict:
         for index in tqdm(range(config.frames), desc="perception", unit="frame", disable=not config.progress,
                           dynamic_ncols=True):
             setup = sample_setup(rng, config.crowd)
-            stage_frame(world, setup)
+            stage_frame(world, setup, config.head_rate_radps)
             truth = world.robot_truth(MEASURED)
             if truth.fallen:
                 log.warning("frame %d: the measured robot fell while settling", index)
@@ -184,6 +193,7 @@ def build_summary(records: list[FrameRecord], config: PerceptionConfig, wall_sec
         "seed": config.seed,
         "crowd": config.crowd,
         "camera_profile": config.camera_profile,
+        "head_rate_radps": config.head_rate_radps,
         "max_range_m": config.max_range_m,
         "fallen_frames": sum(r.fallen for r in records),
         "false_tilt_frames": sum(r.false_tilt for r in records),  # accelerometer tilt off the true one by > 2 deg
