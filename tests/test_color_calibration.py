@@ -136,6 +136,24 @@ def test_cli_refuses_zero_frames(tmp_path: Path) -> None:
     with pytest.raises(SystemExit) as exit_info:
         cli.main(["calibrate-colors", "--frames", "0", "--out", str(tmp_path / "x.json")])
     assert exit_info.value.code == 2
+    with pytest.raises(SystemExit) as exit_info:
+        cli.main(["calibrate-colors", "--camera-profile", "webcam", "--out", str(tmp_path / "x.json")])
+    assert exit_info.value.code == 2
+    assert not (tmp_path / "x.json").exists()
+
+
+@pytest.mark.render
+def test_a_profile_is_calibrated_on_the_frames_it_delivers(tmp_path: Path) -> None:
+    """The frames of a calibration under a camera profile are the profile's (the truth labels stay the
+    rendered image's), and the thresholds name the profile in their command."""
+    clean, nao = render_truth_frames(2, seed=3), render_truth_frames(2, seed=3, camera_profile="nao")
+    for a, b in zip(clean, nao):
+        assert np.array_equal(a.labels, b.labels)
+        assert not np.array_equal(a.image, b.image)
+    out = tmp_path / "nao.json"
+    assert cli.main(["calibrate-colors", "--frames", "2", "--seed", "4", "--camera-profile", "nao", "--out",
+                     str(out)]) == 0
+    assert load_thresholds(out).source == "robotstadium calibrate-colors --frames 2 --seed 4 --camera-profile nao"
 
 
 # ---- the shipped thresholds --------------------------------------------------------------

@@ -40,7 +40,8 @@ from agents.vision.segmentation import LEVEL_SHIFT, ColorBox, ColorTable, ColorT
 from scenarios.common.io import write_json
 from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
-from world.config import RobotSpec
+from world.camera_profiles import DEFAULT_CAMERA_PROFILE
+from world.config import RobotSpec, WorldConfig
 from world.field import GoalColor, Pose2D
 from world.ground import GroundRenderer
 from world.robot_model import Joint, TeamColor
@@ -173,10 +174,10 @@ class TruthLabeller:
 # ---- sampling ---------------------------------------------------------------------------
 
 
-def calibration_world(seed: int = 0) -> World:
-    """A world with :data:`ROBOTS_PER_TEAM` robots of each team."""
+def calibration_world(seed: int = 0, camera_profile: str = DEFAULT_CAMERA_PROFILE) -> World:
+    """A world with :data:`ROBOTS_PER_TEAM` robots of each team, its cameras of ``camera_profile``."""
     roster = [RobotSpec(f"{team.value}_{i}", team) for team in TeamColor for i in range(ROBOTS_PER_TEAM)]
-    return World(roster, seed=seed)
+    return World(roster, WorldConfig(camera_profile=camera_profile), seed=seed)
 
 
 def _free_spot(taken: list[tuple[float, float]], propose, clearance_m: float):
@@ -238,13 +239,14 @@ def stage_frame(world: World, rng: np.random.Generator) -> str:
     return observer
 
 
-def render_truth_frames(frames: int, seed: int) -> list[TruthFrame]:
-    """Render ``frames`` camera images at seeded random poses, with their truth labels."""
+def render_truth_frames(frames: int, seed: int, camera_profile: str = DEFAULT_CAMERA_PROFILE) -> list[TruthFrame]:
+    """Render ``frames`` camera images at seeded random poses through ``camera_profile``, with the truth labels
+    of the rendered image."""
     if not isinstance(frames, int) or frames < 1:
         raise ValueError(f"frames must be a positive integer; got {frames!r}")
     rng = np.random.default_rng(seed)
     out = []
-    with calibration_world(seed) as world:
+    with calibration_world(seed, camera_profile) as world:
         labeller = TruthLabeller(world)
         for _ in range(frames):
             observer = stage_frame(world, rng)
@@ -296,12 +298,15 @@ def evaluate(thresholds: ColorThresholds, frames: Sequence[TruthFrame]) -> tuple
     return tuple(scores)
 
 
-def command_source(frames: int, seed: int) -> str:
-    return f"robotstadium calibrate-colors --frames {frames} --seed {seed}"
+def command_source(frames: int, seed: int, camera_profile: str = DEFAULT_CAMERA_PROFILE) -> str:
+    command = f"robotstadium calibrate-colors --frames {frames} --seed {seed}"
+    return command if camera_profile == DEFAULT_CAMERA_PROFILE else f"{command} --camera-profile {camera_profile}"
 
 
-def calibrate_colors(frames: int, seed: int, holdout_frames: int | None = None) -> CalibrationResult:
-    """Render ``frames`` frames, fit the thresholds, score them there and on held-out frames.
+def calibrate_colors(frames: int, seed: int, holdout_frames: int | None = None,
+                     camera_profile: str = DEFAULT_CAMERA_PROFILE) -> CalibrationResult:
+    """Render ``frames`` frames through ``camera_profile``, fit the thresholds, score them there and on
+    held-out frames.
 
     ``holdout_frames`` (default a third of ``frames``, at least 1) are rendered from
     another seed; 0 skips them.
@@ -311,10 +316,10 @@ def calibrate_colors(frames: int, seed: int, holdout_frames: int | None = None) 
     if not isinstance(holdout_frames, int) or holdout_frames < 0:
         raise ValueError(f"holdout_frames must be an integer >= 0; got {holdout_frames!r}")
     start = time.perf_counter()
-    fit_frames = render_truth_frames(frames, seed)
-    thresholds = fit_thresholds(fit_frames, command_source(frames, seed))
+    fit_frames = render_truth_frames(frames, seed, camera_profile)
+    thresholds = fit_thresholds(fit_frames, command_source(frames, seed, camera_profile))
     fit_scores = evaluate(thresholds, fit_frames)
-    held = render_truth_frames(holdout_frames, seed + HOLDOUT_SEED_OFFSET) if holdout_frames else []
+    held = render_truth_frames(holdout_frames, seed + HOLDOUT_SEED_OFFSET, camera_profile) if holdout_frames else []
     holdout_scores = evaluate(thresholds, held) if held else ()
     seconds = time.perf_counter() - start
     log.info("calibrated colours on %d frames (+%d held out) in %.1f s", frames, holdout_frames, seconds)
