@@ -2,7 +2,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: install test match bench perception scenarios clean distclean
+.PHONY: install test match bench perception scenarios docs clean distclean
 
 install: $(STAMP)
 
@@ -10,7 +10,7 @@ install: $(STAMP)
 $(STAMP): pyproject.toml Makefile
 	test -x $(PY) || python3 -m venv $(VENV)
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e '.[test,ray,browser,learn]'
+	$(PY) -m pip install -e '.[test,ray,browser,learn,docs]'
 	$(PY) -m world.raster.compile
 	$(PY) -m agents.vision.compile
 	touch $@
@@ -29,6 +29,10 @@ perception: install
 
 scenarios: install
 	$(VENV)/bin/robotstadium scenario all --out out/scenarios
+
+# The documentation site into out/docs (mkdocs.yml); strict: a warning, a broken link or reference fails.
+docs: install
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir out/docs
 
 clean:
 	rm -rf out build .pytest_cache .hypothesis .import_linter_cache *.egg-info

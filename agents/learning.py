@@ -6,7 +6,7 @@ agent side sees in that observation: the landmark percepts of the vision pipelin
 chapter 4, :class:`agents.vision.pipeline.VisionPipeline`) and the ball
 (:func:`agents.vision.ball.ball_in_mask`), with the head angles they were seen at. It lives
 in ``agents`` because it runs the agents' vision, which ``match`` may not import
-(docs/design.md section 2); like every agent it reads nothing but the observation.
+(docs/design/index.md section 2); like every agent it reads nothing but the observation.
 
 Layout (:data:`PERCEPT_LABELS` names every entry), bearings CCW positive in the torso frame
 (rad, 0 straight ahead of the torso), distances on the ground from the point below the torso

@@ -3,7 +3,7 @@
 It never renders and never reads a wall clock: every timing is simulated time read from the
 pitch after each control step. It reads the ball (position, last toucher) and the robots'
 true poses, and it places robots and the ball as a human referee would. The rules it
-applies are in :mod:`match.rules`; their facts are in docs/design.md section 4. In a penalty
+applies are in :mod:`match.rules`; their facts are in docs/design/world.md section 4. In a penalty
 shoot-out, :class:`match.shootout.PenaltyShootout` decides who kicks, where everyone stands
 and how each kick ends; the referee changes the states, places things and logs the events.
 """

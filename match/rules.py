@@ -1,7 +1,7 @@
 """The referee's geometric judgements and placements (SPL 2011 as run by RobotStadium).
 
 Pure functions of positions on the field, so every rule can be tested with a placed ball
-and a given last toucher. Field frame, metres (docs/design.md section 3).
+and a given last toucher. Field frame, metres (docs/design/index.md section 3).
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ they are. A wrapper holds only its settings and the env it wraps, so a copy (``p
 
 A learner that wants the landmarks and the ball an agent sees, without pixels, uses
 :class:`agents.learning.PerceptObservations` (it runs the agents' vision, which ``match``
-may not import: docs/design.md section 2).
+may not import: docs/design/index.md section 2).
 """
 
 from __future__ import annotations

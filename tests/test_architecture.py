@@ -1,4 +1,4 @@
-"""The dependency rules of docs/design.md section 2: import-linter contracts and import checks."""
+"""The dependency rules of docs/design/index.md section 2: import-linter contracts and import checks."""
 
 from __future__ import annotations
 

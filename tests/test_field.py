@@ -1,4 +1,4 @@
-"""Field geometry and the 17 landmarks against the facts of docs/design.md section 4."""
+"""Field geometry and the 17 landmarks against the facts of docs/design/world.md section 4."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from world.field import (
 
 TOL = 1e-9
 
-# (x, y) of each landmark in metres, field frame (docs/design.md sections 3 and 4).
+# (x, y) of each landmark in metres, field frame (docs/design/index.md section 3 and docs/design/world.md).
 EXPECTED_POSITIONS: dict[LandmarkId, tuple[float, float]] = {
     LandmarkId.BLUE_GOAL_LEFT_POST: (-3.0, -0.75),
     LandmarkId.BLUE_GOAL_RIGHT_POST: (-3.0, 0.75),

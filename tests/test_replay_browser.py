@@ -20,6 +20,7 @@ from scenarios import cli
 from scenarios.replay import write_replay
 from scenarios.replay.data import COLORS
 from scenarios.replay.synthetic import Fall, Goal, synthetic_match
+from tests import chromium
 
 VIEWPORT = {"width": 1000, "height": 700}
 
@@ -58,26 +59,9 @@ def _rgb(hex_color: str) -> list[int]:
     return [int(hex_color[i:i + 2], 16) for i in (1, 3, 5)]
 
 
-def _chromium() -> str | None:
-    for candidate in (os.environ.get("ROBOTSTADIUM_CHROMIUM"), "/usr/bin/chromium", shutil.which("chromium")):
-        if candidate and Path(candidate).is_file() and os.access(candidate, os.X_OK):
-            return candidate
-    return None
-
-
 @pytest.fixture(scope="module")
 def browser():
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        pytest.skip("playwright is not installed (pip install -e '.[browser]')")
-    executable = _chromium()
-    if executable is None:
-        pytest.skip("no chromium at /usr/bin/chromium (apt-get install -y chromium; .ci/run installs it)")
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=executable)
-        yield browser
-        browser.close()
+    yield from chromium.launched()
 
 
 class Page:

@@ -39,7 +39,7 @@ MERGE_GATE_PER_M = 0.1  # distance: vision's range error grows with it) is that 
 MERGE_DISTANCE_M = 0.25  # ours: two entries nearer than this are one obstacle (robots are 0.15 m wide)
 UPDATE_GAIN = 0.6  # ours: how far an entry moves toward a new sighting (robots walk about)
 MAX_OBSTACLES = 16  # ours: the oldest entries go beyond this
-# The sonars (docs/design.md section 4.2; tests/test_robot_perception.py checks them against
+# The sonars (docs/design/world.md section 4.2; tests/test_robot_perception.py checks them against
 # the world's sensor configuration): 20 degrees to each side, 0.25-2.55 m, mounted about
 # 0.06 m ahead of the torso centre.
 SONAR_YAW_RAD = math.radians(20.0)

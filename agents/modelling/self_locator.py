@@ -17,10 +17,8 @@ a pose 2 m to the side as well); meanwhile the pose's sigma is raised to at leas
 :data:`DOUBT_SIGMA_M`, so that the robot looks for landmarks (it glances at a goal). Only a
 far fix whose frame the tracked pose explains clearly worse (by :data:`JUMP_EVIDENCE_NATS`,
 in the particle filters' measurement model) counts towards a jump: near a goal, one of its
-posts fits a mirrored pose as well as the true one, and six such frames in a row once moved
-a robot 3 m off for 30 s (replaying the self-locator's inputs of six self-play matches, the
-field players' time over 0.5 m off fell from 5.0% to 2.9% in that match, and by up to 0.9
-points or not at all in the five others, one 0.03 points up).
+posts fits a mirrored pose as well as the true one, and enough such frames in a row would move
+a robot metres off for as long as it stays there (docs/results.md, "Self-locator: far fixes").
 """
 
 from __future__ import annotations
@@ -42,8 +40,8 @@ from match.protocol import Displacement, Pose2D
 # The particle filters' settings for updates every frame rather than every scan (a few
 # seconds apart): slower likelihood averages, fewer injected particles, no jump to a pose
 # that only one or two landmarks support, and no particles drawn from such a frame unless it
-# contradicts the cloud (replaying the self-locator's inputs recorded in two self-play matches,
-# this cut the field players' time over 0.5 m off from 4.5% to 2.6%).
+# contradicts the cloud: a few landmarks seen while playing fit a wrong pose too often to let one
+# frame move the cloud (docs/results.md, "Self-locator: far fixes").
 _PER_FRAME = {"alpha_slow": 0.01, "alpha_fast": 0.1, "max_injection": 0.1, "jump_min_percepts": 3,
               "inject_min_percepts": 3, "inject_below_likelihood": 0.1}
 PLAYING_OPTIONS: dict[str, dict[str, object]] = {"particle": _PER_FRAME, "hybrid": _PER_FRAME}

@@ -42,7 +42,7 @@ POST_RUN_FRACTION = 0.3  # ... and at least this fraction of the longest run of 
 MIN_POST_WIDTH_FRACTION = 0.8  # ours: a post's core is at least this fraction of a 0.1 m post's
 # width at its distance. The goal's back uprights (0.04 m square bars, 0.5 m behind the posts)
 # are 0.4-0.57 of it and, a pixel wider on the 160-pixel grid, up to 0.71 within 3.5 m; posts
-# are 0.83 or more (at 0.65, one back upright seen alone in twenty was kept, a post 0.5 m off)
+# are 0.83 or more (docs/results.md, "Goal posts and back uprights")
 MAX_POST_WIDTH_FRACTION = 2.5  # ours: ... and at most this multiple of it (plus MAX_POST_WIDTH_SLACK_PX);
 MAX_POST_WIDTH_SLACK_PX = 2  # the goal's ground frame seen along its side from close by is a wide band
 MIN_POST_HEIGHT_FRACTION = 0.5  # ours: a post whose top is in view is at least this fraction of a

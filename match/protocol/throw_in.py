@@ -1,5 +1,5 @@
 """Where the referee puts the ball after it left the field: a rule of the game that every player
-knows (SPL 2011 as run by RobotStadium). Field frame, metres (docs/design.md section 3)."""
+knows (SPL 2011 as run by RobotStadium). Field frame, metres (docs/design/index.md section 3)."""
 
 from __future__ import annotations
 

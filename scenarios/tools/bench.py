@@ -4,7 +4,7 @@ Each benchmark is a named function in :data:`BENCHMARKS` that gets the number of
 repeats and returns flat metrics (``<name>_ms_median``, ``<name>_ms_p90``, ...); they are
 merged, with a description of the machine, into ``bench.json``. Add a benchmark by
 appending to :data:`BENCHMARKS`. Times are wall-clock (``time.perf_counter``), measured
-after a warm-up; quote medians (docs/design.md section 6). :func:`compare_results` sets two
+after a warm-up; quote medians (docs/design/performance.md section 6). :func:`compare_results` sets two
 runs' figures side by side (``robotstadium bench --compare``).
 """
 

@@ -10,13 +10,13 @@ front of the line. Within :data:`PUSH_DEPTH_M` of the line the ball is pushed th
 kicked: a kick that goes astray so near the goal is a goal.
 
 A ball on the opponent goal line (within :data:`GOAL_LINE_BAND_M`) is no shot for the goal's
-centre: the line to it runs along the goal line, so the spot behind the ball lies beside it
-and the striker circles the ball (once seen for 150 s, blocked there by an opponent at the
-post). Between the posts, far enough inside them for the ball to pass
-(:data:`POST_CLEARANCE_M`), it is pushed into the goal toward a point inside it
-(:data:`GOAL_LINE_AIM_DEPTH_M`), which the robot faces from the field; beside the goal, where
-no line into it passes the post, it is pushed back out in front of the goal
-(:data:`CUTBACK_M`), from a spot behind the ball on the carpet beyond the end line.
+centre: the line to it runs along the goal line, so the spot behind the ball lies beside it and
+the striker circles the ball, where an opponent at the post can block it for good. Between the
+posts, far enough inside them for the ball to pass (:data:`POST_CLEARANCE_M`), it is pushed
+into the goal toward a point inside it (:data:`GOAL_LINE_AIM_DEPTH_M`), which the robot faces
+from the field; beside the goal, where no line into it passes the post, it is pushed back out
+in front of the goal (:data:`CUTBACK_M`), from a spot behind the ball on the carpet beyond the
+end line.
 
 A throw-in's first touch (:func:`restart_aim`) is played the way the robot already goes (the
 way it comes at the ball from afar, the way it faces near it), turned only as far as needed

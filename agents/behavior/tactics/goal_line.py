@@ -1,9 +1,7 @@
 """A ball lying at the own goal line in front of the goal is held off, not played.
 
 Such a ball cannot be reached from behind: the spot behind it lies in the goal, and a robot
-that walks or side-steps round it to get there sweeps it over the line with its legs. Seen
-in self-play: a striker side-stepped round a ball lying 0.4 mm short of counting as a goal,
-its legs beside it, for 3 s and pushed it in. A ball within :data:`HOLD_BAND_M` of the own goal
+that walks or side-steps round it to get there sweeps it over the line with its legs. A ball within :data:`HOLD_BAND_M` of the own goal
 line (or beyond it) and in front of the goal (between the posts, or beside one by less than
 :data:`HOLD_BESIDE_POST_M`) is held off: a robot within :data:`HOLD_NEAR_M` of it stands
 still; one farther away walks to the spot :data:`HOLD_NEAR_M` in front of it, facing it,

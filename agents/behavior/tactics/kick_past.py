@@ -1,9 +1,8 @@
 """Kicking past a robot in the way: in open play, a kick at the opponent goal that a robot near
 the ball would stop is turned just far enough to pass it.
 
-Seen in self-play: of the shots on target the defending team blocked, half hit the opposing
-striker standing 0.1-0.7 m in front of the ball (a kick takes 1.6 s; the opponent is there
-meanwhile, or already). Every robot within :data:`PAST_WITHIN_M` of the ball covers the
+A robot standing just in front of the ball blocks many kicks at the goal (a kick takes 1.6 s;
+the opponent is there meanwhile, or already). Every robot within :data:`PAST_WITHIN_M` of the ball covers the
 directions within :data:`agents.behavior.tactics.shot_window.BLOCKER_RADIUS_M` of its centre, seen
 from the ball (all of them when it stands nearer than that: then nothing passes it, and the
 kick goes at the goal as before). When the direction at the goal's centre is covered, the

@@ -1,8 +1,6 @@
 """Getting a stalled ball moving: a striker at the ball whose skills cannot agree on a touch
-can stand by it for good (seen in self-play: a ball wedged at a post on the opponent goal
-line stayed there for 44 s, among both teams' strikers and a goalkeeper, while the robots
-around waited; the striker 0.2 m from it turned one way to orbit to an aim it could not kick
-along and back the other way to face the ball).
+can stand by it for good (a ball wedged at a post, the striker turning one way to orbit to an
+aim it cannot kick along and back the other way to face the ball, while the robots around wait).
 
 The striker watches where it believes the ball and whether it is near it; when the ball has
 stayed within :data:`STALL_BALL_M` of one place for :data:`STALL_S` with the robot within

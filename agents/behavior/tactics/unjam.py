@@ -1,6 +1,5 @@
 """Getting free when a commanded turn does not turn: two robots that turn in place against each
-other can lock together and stand for good (seen in self-play: two field players, 0.2 m apart,
-both commanding 1 rad/s for 35 s while their gyros read nothing).
+other can lock together and stand for good, both commanding a turn while their gyros read nothing.
 
 The robot compares the turn it commands with the turn its gyro measures over the last
 :data:`WINDOW_S`; when it commanded at least :data:`MIN_COMMANDED_RAD` and turned less than

@@ -8,7 +8,7 @@ first card of an ordered sequence that returns one. A card may keep an option of
 
 Both are plain Python objects called once per step: a step costs a few attribute reads and calls,
 where a general behaviour-tree or state-machine library (py_trees, transitions) would add ticks,
-callbacks and bookkeeping for features this agent does not use (docs/design.md, "The team agent's
+callbacks and bookkeeping for features this agent does not use (docs/design/team-agent.md, "The team agent's
 structure").
 """
 

@@ -5,8 +5,8 @@ lay fallen or believes it stood where it may not stay (the referee placed it); i
 shoot-out at the kicker's or goalkeeper's place when a kick is set. After a throw-in (the
 game-control data's drop-in) the balls seen before it are forgotten, and the rule gives where the
 ball is now, from where the ball was believed to leave the field (its first belief out, on the line
-it crossed; else where it was last believed) and who put it out. (A ball seen rolling on beyond the
-line, 2 m out by the put-back, once gave a spot 1.5 m from the referee's, and the striker walked there.)
+it crossed; else where it was last believed) and who put it out: a kicked ball rolls on beyond the line
+until the put-back, and the spot taken from where it was last seen can lie far from the referee's.
 """
 
 from __future__ import annotations

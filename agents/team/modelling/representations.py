@@ -1,6 +1,6 @@
 """The representations the team agent's behaviour reads, and the :class:`WorldModel` that bundles them.
 
-Frames (docs/design.md section 3): *field* (m, rad; x toward the yellow goal), *torso* (the robot's,
+Frames (docs/design/index.md section 3): *field* (m, rad; x toward the yellow goal), *torso* (the robot's,
 x ahead, y left). Times are the agent's own clock (s since its reset), ``*_s`` fields; durations
 ``*_for_s``.
 """

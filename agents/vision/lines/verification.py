@@ -2,12 +2,10 @@
 
 FindCorner and Find Junction (thesis 4.5.4) look only at the ends of the lines they pair.
 On our rendered field most of their false landmarks are real crossings of painted lines
-that are not landmarks, and a T junction whose bar was seen on one side only is called an
-L corner. Measured on 1000 random views (``robotstadium perception --frames 1000 --seed 0``)
-before these checks: of 80 false L corners, 30 were the centre circle crossing the middle
-line, 26 a middle-line T junction and 15 a goal-area T junction; of 93 false T junctions,
-44 were circle crossings and 33 goal-area T junctions. The checks, with distances measured
-on the ground through the camera model:
+that are not landmarks (the centre circle crossing the middle line, the middle line's and the
+goal areas' T junctions), and a T junction whose bar was seen on one side only is called an
+L corner (docs/results.md, "False corners and junctions"). The checks, with distances
+measured on the ground through the camera model:
 
 - paint: each arm, as a straight segment, lies on white (lines merged across a crossing
   do not); for a T junction the whole bar too;

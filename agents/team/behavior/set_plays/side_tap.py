@@ -7,8 +7,7 @@ the ball lies ``side_tap.back_tap_clear_m`` or more from the own goal line; in t
 from the robot's side. Walking round the ball to play it along the line took seconds. Not when the
 robot comes at the ball otherwise, or stands past it the way the tap goes (``side_tap.beyond_m``).
 Chosen once per throw-in, the way included, from the ball's sighting and the robot's heading: a jump of
-the position estimate that carries the ball over the centre line must not turn the tap round (a striker
-once side-stepped 0.4 m past the ball for it).
+the position estimate that carries the ball over the centre line must not turn the tap round.
 """
 
 from __future__ import annotations

@@ -6,9 +6,9 @@ neither back toward the own goal nor out (:func:`agents.behavior.tactics.aim.res
 striker first saw it after the put-back (within ``throw_in.quick_untouched_m``: its field position
 flickers with the pose estimate), and while the ball is near the throw-in line
 (``throw_in.quick_touch_band_m``). Once touched, the touch goes on for ``throw_in.quick_push_s``; then the
-striker plays on as in open play (pushing on drifts the ball out over the line). (A striker 0.4 m from
-the ball, lined up for its tap 10 s after the put-back, once turned to play it as in open play instead
-and touched it 4.6 s later.)
+striker plays on as in open play (pushing on drifts the ball out over the line). The time allowed grows
+while nobody has touched the ball, so that a striker lined up for its touch when the first span ends
+does not turn away to play it as in open play.
 """
 
 from __future__ import annotations
