@@ -1,5 +1,6 @@
 """Refusals: every bad number or path of every command ends with exit code 2, one line naming it, and
-nothing written; scenario files out of bounds and damaged run files on --resume are refused the same way."""
+nothing written; scenario files out of bounds and damaged run, match and trial files on --resume are
+refused the same way."""
 
 from __future__ import annotations
 
@@ -13,6 +14,10 @@ import pytest
 
 from scenarios import cli
 from scenarios.common.batch import BatchError, TaskResult
+from scenarios.drills.records import TrialRecord
+from scenarios.drills.records import stored_record as stored_trial
+from scenarios.drills.settings import DrillSettings
+from scenarios.drills.shooting import Shooting
 from scenarios.localization.batch import RunStore
 from scenarios.localization.file import ScenarioFileError, load_scenario
 from scenarios.tournament.run import match_record, stored_record
@@ -82,6 +87,20 @@ TABLE = [
     (["replay", "match"], "--out", BAD_FILES),
     (["replay", "match"], "--stride", ("0", "100001", *BAD_COUNTS)),
     (["rerun", "match"], "--out", BAD_DIRS),
+    (["drill", "throw-in", "--out", "out"], "--home", ("nope", "no.such.module:Policy", "", "os:getcwd")),
+    (["drill", "throw-in", "--out", "out"], "--away", ("nope", "")),
+    (["drill", "throw-in", "--out", "out"], "--players", ("0", "5", *BAD_COUNTS)),
+    (["drill", "shooting", "--out", "out"], "--striker", ("nope", "builtins:object")),
+    (["drill", "shooting", "--out", "out"], "--keeper", ("nope", "")),
+    (["drill", "duel", "--out", "out"], "--home", ("nope",)),
+    (["drill", "duel", "--out", "out"], "--away", ("nope",)),
+    (["drill", "duel", "--out", "out"], "--spread", ("-0.1", "0.91", "1e308", "nan", "inf", "ten", "")),
+    (["drill", "goal-line", "--out", "out"], "--defenders", ("nope", "team:missing.toml")),
+    (["drill", "goal-line", "--out", "out"], "--attacker", ("nope",)),
+    *((["drill", name, "--out", "out"], flag, values) for name in ("throw-in", "shooting", "duel", "goal-line")
+      for flag, values in (("--seconds", ("0", "601", *BAD_COUNTS)), ("--trials", ("0", "10001", *BAD_COUNTS)),
+                           ("--seed", BAD_SEEDS), ("--workers", ("0", "65", *BAD_COUNTS)))),
+    *((["drill", name], "--out", BAD_DIRS) for name in ("throw-in", "shooting", "duel", "goal-line")),
 ]
 
 # Refusals that name what is wrong without a flag: (command line, a word the message holds)
@@ -104,13 +123,22 @@ OTHER_REFUSALS = [
     (["rerun", "", "--out", "out"], "MATCH_DIR"),
     (["rerun", "a_file", "--out", "out"], "a_file"),
     (["rerun", "a_dir", "--out", "out"], "summary.json"),
+    (["drill", "nope", "--out", "out"], "'nope'"),
+    (["drill", "", "--out", "out"], "DRILL"),
+    (["drill"], "DRILL"),
+    (["drill", "shooting", "--seed", "4294967295", "--trials", "2", "--out", "out"], "--seed 4294967295"),
 ]
 
 
 def _cases():
     for argv, flag, values in TABLE:
         for value in values:
-            yield pytest.param(argv, flag, value, id=f"{argv[0]} {flag} {value[:16]!r}")
+            yield pytest.param(argv, flag, value, id=f"{_command(argv)} {flag} {value[:16]!r}")
+
+
+def _command(argv: list[str]) -> str:
+    """The command a command line runs: its first word, and a drill's name."""
+    return " ".join(argv[:2]) if argv[0] == "drill" else argv[0]
 
 
 @pytest.fixture
@@ -153,7 +181,7 @@ def refused(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
     assert "Traceback" not in captured.err
     lines = captured.err.splitlines()
     assert len(lines) == 1 and captured.err.endswith("\n"), captured.err
-    assert lines[0].startswith(f"robotstadium {argv[0]}: error: ")
+    assert lines[0].startswith((f"robotstadium {argv[0]}: error: ", f"robotstadium {_command(argv)}: error: "))
     return lines[0]
 
 
@@ -179,22 +207,32 @@ def test_a_refusal_of_the_library_is_one_line_and_writes_nothing(
 
 
 def _valued_arguments() -> set[tuple[str, str]]:
-    """(command, flag or positional) of every argument that takes a value."""
-    parser = cli.build_parser()
-    subparsers = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    """(command, flag or positional) of every argument that takes a value; a drill's are ``drill NAME``'s."""
     found = set()
-    for command, sub in subparsers.choices.items():
-        for action in sub._actions:
-            if action.nargs != 0 and not isinstance(action, argparse._HelpAction):
+
+    def visit(parser: argparse.ArgumentParser, command: str) -> None:
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                if command:
+                    found.add((command, action.dest))
+                for name, sub in action.choices.items():
+                    visit(sub, f"{command} {name}".strip())
+            elif action.nargs != 0 and not isinstance(action, argparse._HelpAction):
                 found.add((command, action.option_strings[-1] if action.option_strings else action.dest))
+
+    visit(cli.build_parser(), "")
     return found
 
 
+DRILL_COMMANDS = ("drill throw-in", "drill shooting", "drill duel", "drill goal-line")
+
+
 def test_the_table_covers_every_argument_that_takes_a_value() -> None:
-    covered = {(argv[0], flag) for argv, flag, _ in TABLE}
+    covered = {(_command(argv), flag) for argv, flag, _ in TABLE}
     positionals = {("scenario", "scenarios"), ("tournament", "policies"), ("replay", "match_dir"),
-                   ("rerun", "match_dir")}  # OTHER_REFUSALS
-    free = {(command, flag) for command in ("scenario", "tournament") for flag in ("--backend", "--ray-address")}
+                   ("rerun", "match_dir"), ("drill", "drill")}  # OTHER_REFUSALS
+    free = {(command, flag) for command in ("scenario", "tournament", *DRILL_COMMANDS)
+            for flag in ("--backend", "--ray-address")}
     assert _valued_arguments() - covered - positionals - free == set()
 
 
@@ -208,6 +246,10 @@ BOUNDS_IN_HELP = {
     "scenario": ["1-100000", "0-4294967295", "1-86400", "1-64"],
     "tournament": ["1-1000", "1-86400", "1-4", "0-4294967295", "1-64"],
     "replay": ["1-100000"],
+    "drill throw-in": ["1-4", "1-600 s", "1-10000", "0-4294967295", "1-64"],
+    "drill shooting": ["1-600 s", "1-10000", "0-4294967295", "1-64"],
+    "drill duel": ["1-600 s", "0-0.9 m", "1-10000", "0-4294967295", "1-64"],
+    "drill goal-line": ["1-600 s", "1-10000", "0-4294967295", "1-64"],
 }
 
 
@@ -216,7 +258,7 @@ def test_the_help_states_every_bound(command: str, capsys: pytest.CaptureFixture
                                      monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("COLUMNS", "1000")  # no line breaks inside a range
     with pytest.raises(SystemExit):
-        cli.main([command, "--help"])
+        cli.main([*command.split(), "--help"])
     text = capsys.readouterr().out
     for bound in BOUNDS_IN_HELP[command]:
         assert bound in text, bound
@@ -425,4 +467,68 @@ def test_resume_refuses_a_damaged_match_record_naming_it(content: str, place: Pa
     before = snapshot(place)
     line = refused([*TOURNAMENT_ARGS, "--out", str(out)], capsys)
     assert str(out / "runs" / "match_0000.json") in line
+    assert snapshot(place) == before
+
+
+DRILL = DrillSettings(Shooting(seconds=1), (("striker", "stand"), ("keeper", "stand")), trials=2, seed=0)
+DRILL_ARGS = ["drill", "shooting", "--striker", "stand", "--keeper", "stand", "--seconds", "1", "--trials", "2",
+              "--no-progress", "--workers", "1", "--resume"]
+
+
+def _trial(index: int = 0) -> dict:
+    record = TrialRecord(index, index, "ok", "none", {"ball_x": 1.5, "ball_y": -0.2, "time_s": 1.0}, 1.4, 0.6)
+    return {"fingerprint": DRILL.fingerprint(), **record.to_json()}
+
+
+DAMAGED_TRIALS = [
+    ("truncated", json.dumps(_trial())[:40]),
+    ("array", "[]"),
+    ("deep", "[" * 100_000 + "]" * 100_000),
+    ("status unknown", json.dumps({**_trial(), "status": "won"})),
+    ("status missing", json.dumps({k: v for k, v in _trial().items() if k != "status"})),
+    ("another seed", json.dumps({**_trial(), "seed": 7})),
+    ("another trial's index", json.dumps({**_trial(), "trial": 1})),
+    ("outcome unknown", json.dumps({**_trial(), "outcome": "won"})),
+    ("outcome missing", json.dumps({k: v for k, v in _trial().items() if k != "outcome"})),
+    ("a figure as text", json.dumps({**_trial(), "time_s": "1.0"})),
+    ("a figure missing", json.dumps({k: v for k, v in _trial().items() if k != "ball_x"})),
+    ("a figure not finite", json.dumps({**_trial(), "ball_y": float("inf")})),
+    ("a huge number", '{"trial": 0, "seed": ' + "1" * 5000 + "}"),
+    ("no attempts", json.dumps({**_trial(), "attempts": 0})),
+    ("failed without its error", json.dumps({**_trial(), "status": "failed"})),
+]
+
+
+def _drill_dir(root: Path, content: str, marker: dict | None = None) -> Path:
+    out = root / "out"
+    (out / "runs").mkdir(parents=True)
+    marker = marker or {**DRILL.to_json(), "fingerprint": DRILL.fingerprint()}
+    (out / "drill.json").write_text(json.dumps(marker), encoding="utf-8")
+    (out / "runs" / "trial_0000.json").write_text(content, encoding="utf-8")
+    return out
+
+
+def test_a_sound_trial_record_is_resumed_as_written(tmp_path: Path) -> None:
+    record = stored_trial(DRILL.tasks(), 0, _trial())
+    assert record.to_json() == {k: v for k, v in _trial().items() if k != "fingerprint"}
+    with pytest.raises(ValueError, match="trial 7"):
+        stored_trial(DRILL.tasks(), 7, {**_trial(), "trial": 7})
+
+
+@pytest.mark.parametrize("content", [c for _, c in DAMAGED_TRIALS], ids=[n for n, _ in DAMAGED_TRIALS])
+def test_resume_refuses_a_damaged_trial_record_naming_it(content: str, place: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    out = _drill_dir(place, content)
+    before = snapshot(place)
+    line = refused([*DRILL_ARGS, "--out", str(out)], capsys)
+    assert str(out / "runs" / "trial_0000.json") in line and "--resume" in line and len(line) < 400
+    assert snapshot(place) == before
+
+
+def test_resume_refuses_a_drill_of_other_settings_naming_both(place: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    other = DrillSettings(Shooting(seconds=2), DRILL.policies, trials=2, seed=0)
+    out = _drill_dir(place, json.dumps(_trial()), {**other.to_json(), "fingerprint": other.fingerprint()})
+    before = snapshot(place)
+    line = refused([*DRILL_ARGS, "--out", str(out)], capsys)
+    assert other.fingerprint() in line and DRILL.fingerprint() in line
     assert snapshot(place) == before

@@ -10,7 +10,7 @@ exit code 2 before anything runs or is written. Errors of the library (a
 :class:`~world.errors.WorldError`, a :class:`~match.errors.MatchError` or a ``ValueError``
 from a bad argument or input file) end it the same way, also before anything is written; a
 file that cannot be written while the command runs ends it the same way with exit code 1.
-A SIGTERM is a Ctrl-C (``KeyboardInterrupt``): a tournament or a scenario batch stops its
+A SIGTERM is a Ctrl-C (``KeyboardInterrupt``): a tournament, a drill or a scenario batch stops its
 workers and keeps its finished tasks for ``--resume``; every command ends with exit code 130
 and one line that names only what exists.
 """
@@ -27,6 +27,7 @@ from match.errors import MatchError
 from scenarios.cli import (
     bench,
     calibrate_colors,
+    drill,
     localize,
     match,
     perception,
@@ -53,7 +54,7 @@ from world.errors import WorldError
 __all__ = ["EXIT_FAILED", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_USAGE", "SUBCOMMANDS", "build_parser", "main"]
 
 SUBCOMMANDS: tuple[ModuleType, ...] = (
-    world_demo, bench, match, calibrate_colors, perception, localize, scenario, tournament, replay, rerun,
+    world_demo, bench, match, calibrate_colors, perception, localize, scenario, tournament, drill, replay, rerun,
 )
 
 

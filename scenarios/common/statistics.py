@@ -1,4 +1,4 @@
-"""Summary statistics of a sample of numbers, NaN where a statistic is undefined."""
+"""Summary statistics of a sample (NaN where one is undefined) and Wilson's interval of a proportion."""
 
 from __future__ import annotations
 
@@ -7,6 +7,10 @@ from collections.abc import Sequence
 
 import numpy as np
 from scipy import stats
+
+Z95 = 1.959963984540054  # the standard normal's 97.5th percentile
+
+Interval = tuple[float, float]
 
 
 def mean(values: Sequence[float] | np.ndarray) -> float:
@@ -28,3 +32,14 @@ def ci95_half_width(values: Sequence[float] | np.ndarray) -> float:
     if n < 2:
         return math.nan
     return float(stats.t.ppf(0.975, n - 1) * np.std(data, ddof=1) / math.sqrt(n))
+
+
+def wilson_interval(successes: float, n: int, z: float = Z95) -> Interval:
+    """Wilson's score interval of a proportion ``successes / n``; (NaN, NaN) for n = 0."""
+    if n <= 0:
+        return (math.nan, math.nan)
+    p = successes / n
+    denominator = 1.0 + z * z / n
+    centre = (p + z * z / (2.0 * n)) / denominator
+    half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / denominator
+    return (max(0.0, centre - half), min(1.0, centre + half))

@@ -25,26 +25,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scenarios.common.statistics import ci95_half_width, mean
+from scenarios.common.statistics import Interval, ci95_half_width, mean, wilson_interval
 
-Z95 = 1.959963984540054  # the standard normal's 97.5th percentile
 PRIOR_WINS = 0.5  # virtual half-wins each way per pair in the rating fit
 BOOTSTRAP_RESAMPLES = 1000
 BOOTSTRAP_STREAM = 7  # the bootstrap's generator: SeedSequence([seed, BOOTSTRAP_STREAM])
 ELO_SCALE = 400.0
-
-Interval = tuple[float, float]
-
-
-def wilson_interval(successes: float, n: int, z: float = Z95) -> Interval:
-    """Wilson's score interval of a proportion ``successes / n``; (NaN, NaN) for n = 0."""
-    if n <= 0:
-        return (math.nan, math.nan)
-    p = successes / n
-    denominator = 1.0 + z * z / n
-    centre = (p + z * z / (2.0 * n)) / denominator
-    half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / denominator
-    return (max(0.0, centre - half), min(1.0, centre + half))
 
 
 def mean_interval(values: Sequence[float]) -> tuple[float, Interval]:

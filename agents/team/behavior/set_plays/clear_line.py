@@ -11,7 +11,7 @@ and pushes the ball that way, with the striker's own cards (:class:`~..striker.o
 :class:`~..striker.open_play.Chase`) on a clearing aim that is pushed, never kicked. On with
 ``clear_line.enabled = true``; shipped off, since it is not shown to let in fewer goals than the
 clearing out to the side of :mod:`agents.behavior.tactics.aim` that it replaces
-(``examples/goal_line_drill.py`` plays the two against the same attacks).
+(``robotstadium drill goal-line`` plays the two against the same attacks).
 
 Computed in the frame where the own goal is at x = -3 (``attack`` = +1 when the robot defends the blue
 goal, -1 otherwise) and mirrored; field frame, m and rad.
