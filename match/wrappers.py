@@ -272,7 +272,8 @@ class DiscreteActions(BaseParallelWrapper):
     The action space is ``MultiDiscrete(action_set.nvec)``: [motion, head, camera] (and
     [..., radio] with radio symbols), or with ``flat=True`` one ``Discrete`` over every
     combination (index = motion * (heads * cameras * ...) + head * (cameras * ...) + ...,
-    C order). Action spaces are seeded once, agent ``i`` with ``i``, as the env's. An agent
+    C order). Action spaces are seeded as the env's (agent ``i`` with the env's
+    ``space_seed(i)``: ``i`` for an env built directly, fresh entropy for a copy). An agent
     without an action, or with None, stands (as in the env). A choice outside its range, or
     not integers, is refused with an :class:`~match.errors.InvalidActionError` naming the agent
     and the value, before the env steps.
@@ -288,10 +289,19 @@ class DiscreteActions(BaseParallelWrapper):
         self.flat = flat
         nvec = self.action_set.nvec
         self._spaces = {}
-        for i, agent in enumerate(env.possible_agents):
-            space = spaces.Discrete(int(np.prod(nvec))) if flat else spaces.MultiDiscrete(nvec)
-            space.seed(i)
-            self._spaces[agent] = space
+        for agent in env.possible_agents:
+            self._spaces[agent] = spaces.Discrete(int(np.prod(nvec))) if flat else spaces.MultiDiscrete(nvec)
+        self._seed_spaces()
+
+    def __setstate__(self, state: dict) -> None:
+        """A copy's spaces are seeded as its env's (apart from the original's)."""
+        self.__dict__.update(state)
+        self._seed_spaces()
+
+    def _seed_spaces(self) -> None:
+        space_seed = getattr(self.env.unwrapped, "space_seed", None)
+        for i, agent in enumerate(self.env.possible_agents):
+            self._spaces[agent].seed(i if space_seed is None else space_seed(i))
 
     def action_space(self, agent: str) -> spaces.Space:
         self.env.action_space(agent)  # refuses an unknown agent as the env does

@@ -295,7 +295,9 @@ def test_supersuit_vector_envs_in_two_spawned_processes(spawn, chain):
     view = wrap(parent)
     if chain == "image":
         assert view.observation_space("home_0").shape == (32, 42, 3)
-    vector = ss.concat_vec_envs_v1(ss.pettingzoo_env_to_vec_env_v1(view), 2, num_cpus=2, base_class="gymnasium")
+    # Kept: gymnasium 1.2's VectorEnv.__del__ closes SuperSuit's Markov wrapper, and with it the env it wraps.
+    markov = ss.pettingzoo_env_to_vec_env_v1(view)
+    vector = ss.concat_vec_envs_v1(markov, 2, num_cpus=2, base_class="gymnasium")
     try:
         assert isinstance(vector, VectorEnv) and vector.num_envs == 4
         single_obs, single_act = vector.observation_space, vector.action_space
