@@ -9,12 +9,16 @@ from types import MappingProxyType
 import numpy as np
 import pytest
 
+from pettingzoo.test import api_test, parallel_api_test
+
+import match.env as env_module
 from match import parallel_env
 from match.episodes import LEARNING, Episode
-from match.errors import MatchConfigError, RewardError
+from match.errors import InvalidActionError, MatchConfigError, RewardError
 from match.events import EventKind, MatchEvent
 from match.game import MatchConfig
 from match.protocol import GameState, Motion, make_action
+from match.pose_estimates import PoseEstimates
 from match.referee import RefereeConfig
 from match.rewards import BallProgress, Goals, Possession, Shots, Weighted
 from match.starts import RANDOM_MARGIN_M, RANDOM_SPACING_M, WAITING_Y_M
@@ -229,3 +233,33 @@ def test_goals_as_a_reward_function_equal_the_envs_rewards_and_truth_stays_out_o
     assert set(first[1]["home_0"]) == set(first[0]["home_0"])
     for e in (plain, shaped):
         e.close()
+
+
+def test_pose_estimates_are_rewarded_by_their_error_and_bad_ones_refused():
+    env = PoseEstimates(parallel_env(1, 1, preset="learning", start="random"), position_weight=1.0,
+                        heading_weight=0.5)
+    env.reset(seed=3)
+    truth = env.unwrapped.truth()
+    home, away = truth.robots["home_0"], truth.robots["away_0"]
+    stand = make_action()
+    _, rewards, *_ = env.step({"home_0": {"action": stand, "pose": (home.x, home.y, home.theta)},
+                               "away_0": {"action": stand, "pose": (away.x + 1.0, away.y, away.theta + 0.2)}})
+    assert rewards["home_0"] == pytest.approx(0.0, abs=1e-9)
+    assert rewards["away_0"] == pytest.approx(-(1.0 + 0.5 * 0.2), abs=1e-6)
+    assert env.action_space("home_0")["pose"].shape == (3,)
+    step_index = env.unwrapped.match.step_index
+    with pytest.raises(InvalidActionError, match=r"'away_0'.*'pose'"):
+        env.step({"home_0": {"action": stand, "pose": (0.0, 0.0, 0.0)},
+                  "away_0": {"action": stand, "pose": (float("nan"), 0.0, 0.0)}})
+    assert env.unwrapped.match.step_index == step_index
+    env.close()
+
+
+def test_pettingzoo_api_tests_on_learning_episodes_with_shaped_rewards():
+    reward = Weighted((1.0, Goals()), (0.5, BallProgress()), (0.1, Possession()), (0.5, Shots()))
+    env = parallel_env(1, 1, preset="learning", half_seconds=3.0, start="random", reward_fn=reward)
+    parallel_api_test(env, num_cycles=120)
+    env.close()
+    aec = env_module.env(1, 1, preset="learning", half_seconds=2.0, start="penalty", reward_fn=reward)
+    api_test(aec, num_cycles=60)
+    aec.close()
