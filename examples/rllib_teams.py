@@ -19,7 +19,7 @@ evaluation of the learned and of a random policy on the same seeds with 95% inte
 settings) and ``checkpoint/`` (the algorithm; :class:`LearnedPolicy` plays its home module
 in a match or a tournament).
 
-    python examples/rllib_teams.py --iterations 12 --out out/rllib_teams
+    python examples/rllib_teams.py --iterations 30 --out out/rllib_teams
     python examples/rllib_teams.py --smoke --out out/rllib_smoke   # one small iteration
 
 Needs the ``ray`` extra (RLlib) and the ``learn`` extra (the CPU build of torch):
@@ -79,7 +79,7 @@ class Settings:
     """One run: ``iterations`` PPO iterations of ``batch`` env steps each (every learner's steps) from
     ``env_runners`` Ray actors; episodes of ``episode_steps`` steps; ``eval_episodes`` per policy."""
 
-    iterations: int = 12
+    iterations: int = 30
     batch: int = 2000
     env_runners: int = 2
     players: int = 1
