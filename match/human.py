@@ -8,6 +8,7 @@ button is honoured: the window closes and later frames are dropped until the env
 from __future__ import annotations
 
 import logging
+import os
 
 import numpy as np
 
@@ -30,7 +31,7 @@ class HumanView:
     def check_available() -> None:
         """A :class:`MatchConfigError` when pygame cannot be imported."""
         try:
-            import pygame  # noqa: F401
+            _pygame()
         except ImportError as error:
             raise MatchConfigError(f"render_mode 'human' needs pygame ({error}); install the 'human' extra or use "
                                    "render_mode='rgb_array'") from None
@@ -52,11 +53,7 @@ class HumanView:
     def _open(self, width: int, height: int):
         if self._screen is not None:
             return self._pygame
-        import os
-
-        os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
-        import pygame
-
+        pygame = _pygame()
         try:
             pygame.display.init()
             self._screen = pygame.display.set_mode((width, height))
@@ -78,3 +75,11 @@ class HumanView:
             self._pygame.display.quit()
         self._pygame = None
         self._screen = None
+
+
+def _pygame():
+    """pygame, imported without its greeting on standard output."""
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+
+    return pygame
