@@ -119,21 +119,27 @@ class PerceptObservations(BaseParallelWrapper):
 
     def percepts(self, observation: Mapping) -> np.ndarray:
         """The percept vector (float32, :data:`PERCEPT_LABELS`) of one observation dict."""
-        obs = Observation.of(observation)
-        vector = np.zeros(len(PERCEPT_LABELS), np.float32)
-        vector[HEAD] = (obs.head_yaw_rad, obs.head_pitch_rad, float(obs.camera))
-        if obs.image is None:
-            return vector
         if self._pipeline is None:
             self._pipeline = VisionPipeline(self.camera_model_name)
-        frame = CameraFrame.from_observation(obs)
-        result = self._pipeline.process(frame)
-        mask = result.segmented == int(ColorClass.ORANGE)
-        ball = ball_in_mask(mask, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
-        if ball is not None and plausible(ball):
-            vector[BALL] = (1.0, ball.bearing_rad, min(ball.distance_m, MAX_DISTANCE_M))
-        _place_landmarks(vector, result.percepts)
+        return percept_vector(self._pipeline, observation)
+
+
+def percept_vector(pipeline: VisionPipeline, observation: Mapping) -> np.ndarray:
+    """The percept vector (float32, :data:`PERCEPT_LABELS`) of one observation dict, seen by ``pipeline``
+    (a policy that plays a learned percept policy in a match builds one and calls this every step)."""
+    obs = Observation.of(observation)
+    vector = np.zeros(len(PERCEPT_LABELS), np.float32)
+    vector[HEAD] = (obs.head_yaw_rad, obs.head_pitch_rad, float(obs.camera))
+    if obs.image is None:
         return vector
+    frame = CameraFrame.from_observation(obs)
+    result = pipeline.process(frame)
+    mask = result.segmented == int(ColorClass.ORANGE)
+    ball = ball_in_mask(mask, frame.head_yaw_rad, frame.head_pitch_rad, frame.camera)
+    if ball is not None and plausible(ball):
+        vector[BALL] = (1.0, ball.bearing_rad, min(ball.distance_m, MAX_DISTANCE_M))
+    _place_landmarks(vector, result.percepts)
+    return vector
 
 
 def _place_landmarks(vector: np.ndarray, percepts: tuple[LandmarkPercept, ...]) -> None:

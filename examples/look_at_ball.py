@@ -60,6 +60,7 @@ BALL_DISTANCE_M = (1.0, 2.8)
 BALL_BEARING_RAD = (math.radians(30.0), math.radians(100.0))  # to the left (CCW): out of view straight ahead
 BALL_AREA_M = (3.4, 2.4)  # the ball is placed within |x|, |y| below these (the carpet)
 STAND_STILL = make_action(Motion.STAND, camera=CameraChoice.OFF)
+PLACEMENT_SALT = 0x4C4F4F4B  # mixed with the episode's match seed: the placement's own stream
 EVAL_SEED = 10_000  # evaluation episodes use seeds from here on, never seen in training
 CURVE_WINDOW = 20  # training episodes per point of the smoothed curve
 LOG_EVERY = 4096  # timesteps between two progress lines
@@ -86,22 +87,19 @@ class LookAtBall(BaseParallelWrapper):
 
     Wraps the raw env (it reads the ground truth of ``env.unwrapped.match.world``). The learner's
     reward each step is ``cos`` of the angle between its camera's optical axis and the direction
-    from the camera to the ball's centre, in [-1, 1]; the other robots get 0.
+    from the camera to the ball's centre, in [-1, 1]; the other robots get 0. The placement is
+    drawn from the episode's match seed (``env.unwrapped.episode_seed``), which differs between
+    the sub-envs of a vector env even where they are handed the same seed.
     """
-
-    def __init__(self, env):
-        super().__init__(env)
-        self._rng: np.random.Generator | None = None
 
     def reset(self, seed: int | None = None, options: dict | None = None):
         self.env.reset(seed=seed, options=options)
-        if seed is not None or self._rng is None:
-            self._rng = np.random.default_rng(seed)
+        rng = np.random.default_rng([self.env.unwrapped.episode_seed, PLACEMENT_SALT])
         world = self.env.unwrapped.match.world
         while True:  # until the ball lies on the carpet
-            x, y, theta = self._rng.uniform(-2.0, 2.0), self._rng.uniform(-1.2, 1.2), self._rng.uniform(-math.pi, math.pi)
-            distance = self._rng.uniform(*BALL_DISTANCE_M)
-            bearing = theta + self._rng.uniform(*BALL_BEARING_RAD)
+            x, y, theta = rng.uniform(-2.0, 2.0), rng.uniform(-1.2, 1.2), rng.uniform(-math.pi, math.pi)
+            distance = rng.uniform(*BALL_DISTANCE_M)
+            bearing = theta + rng.uniform(*BALL_BEARING_RAD)
             ball_x, ball_y = x + distance * math.cos(bearing), y + distance * math.sin(bearing)
             if abs(ball_x) < BALL_AREA_M[0] and abs(ball_y) < BALL_AREA_M[1]:
                 break

@@ -8,7 +8,9 @@ is a :class:`StepRefusedError`, raised before anything of the step happens::
     │   ├── UnknownAgentError (also LookupError): an agent id not in the match
     │   └── InvalidActionError: one field of one agent's action
     │       └── RadioPacketError: a radio packet that is not bytes of at most 128
-    └── EnvClosedError (also RuntimeError): reset, state or render of a closed env
+    ├── EnvClosedError (also RuntimeError): reset, state or render of a closed env
+    ├── MatchConfigError (also ValueError): a setting, option or seed outside its range
+    └── RewardError (also ValueError): a reward function's result that is not a finite reward per agent
 """
 
 from __future__ import annotations
@@ -153,6 +155,11 @@ class EnvClosedError(MatchError, RuntimeError):
 
 class MatchConfigError(MatchError, ValueError):
     """A match, referee or radio setting outside its allowed range."""
+
+
+class RewardError(MatchError, ValueError):
+    """What an env's ``reward_fn`` returned that is not a finite number per known agent (NaN, a string, an
+    unknown agent id)."""
 
 
 class InvalidReportError(MatchError, ValueError):

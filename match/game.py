@@ -20,7 +20,7 @@ from dataclasses import field as default
 
 import numpy as np
 
-from match.errors import InvalidActionError, StepRefusedError, UnknownAgentError
+from match.errors import InvalidActionError, MatchConfigError, StepRefusedError, UnknownAgentError
 from match.events import MatchEvent
 from match.free_play import FreePlay, free_play_control
 from match.observations import build_observation, game_observation, radio_observation
@@ -30,6 +30,7 @@ from match.protocol.ids import AgentId, Side, roster
 from match.protocol.spaces import CameraChoice
 from match.radio import Radio, RadioConfig
 from match.referee import Referee, RefereeConfig
+from match.starts import Start, placement
 from world.config import RobotSpec, WorldConfig
 from world.errors import InvalidCommandError
 from world.field import Pose2D
@@ -74,6 +75,7 @@ class StepResult:
     rewards: dict[str, float]
     events: tuple[MatchEvent, ...]
     finished: bool
+    goals: tuple[Side, ...] = ()  # the sides that scored in this step, one entry per goal
 
 
 class Match:
@@ -95,11 +97,18 @@ class Match:
 
     # ---- life cycle -------------------------------------------------------------------
 
-    def reset(self, seed: int = 0, random_start: bool = False) -> dict[str, dict]:
+    def reset(self, seed: int = 0, random_start: bool = False, start: Start = Start.KICKOFF,
+              referee: RefereeConfig | None = None) -> dict[str, dict]:
         """Start a new match from the world's initial state; the same seed gives the same match.
 
         ``random_start``: the robots start at poses drawn from the seed (:meth:`_place_at_random`)
-        instead of their kick-off poses (or the free play's starts)."""
+        instead of their kick-off poses (or the free play's starts), and the referee's kick-off
+        follows. ``start``: another start (:class:`match.starts.Start`, drawn from the seed), with play
+        at once. ``referee``: the referee's settings from this match on (None: as they were)."""
+        if start is not Start.KICKOFF and self.config.free_play is not None:
+            raise MatchConfigError(f"start {start.value!r} in free play; free play starts where its starts say")
+        if referee is not None:
+            self.referee.config = referee
         world_seed, radio_seed, start_seed = np.random.SeedSequence(seed).spawn(3)
         self.world.reset(np.random.default_rng(world_seed))
         self.radio.reset(np.random.default_rng(radio_seed))
@@ -115,6 +124,13 @@ class Match:
             self._place_free_play(self.config.free_play)
         if random_start:
             self._place_at_random(np.random.default_rng(start_seed))
+        if start is not Start.KICKOFF:
+            defended = {side: self.referee.defended_goal(side) for side in Side}
+            placed = placement(start, self.agents, defended, np.random.default_rng(start_seed))
+            for robot, pose in placed.robots:
+                self.world.place_robot(robot, pose)
+            self.world.place_ball(*placed.ball)
+            self.events.extend(self.referee.play_on().events)
         self._started = True
         return self.observe({a: [] for a in self.agents})
 
@@ -205,9 +221,10 @@ class Match:
         self.step_index += 1
         rewards = {name: 0.0 for name in self.agent_names}
         events: tuple[MatchEvent, ...] = ()
+        goals: tuple[Side, ...] = ()
         if not self.free_play:
             update = self.referee.update()
-            events = update.events
+            events, goals = update.events, update.goals
             self.events.extend(events)
             for scorer in update.goals:
                 for agent in self.agents:
@@ -216,7 +233,7 @@ class Match:
         inboxes = self.radio.deliver(self.step_index, positions)
         # a finished match is asked for no more actions: nobody is told to start on these observations
         return StepResult(self.observe(inboxes, None if self.finished else observed), rewards, events,
-                          self.finished)
+                          self.finished, goals)
 
     def _apply(self, agent: AgentId, action: Action) -> None:
         robot = str(agent)

@@ -59,6 +59,7 @@ class RefereeConfig:
     """Timings in simulated seconds. ``fallen_limit_s`` None: fallen robots are left alone."""
 
     half_seconds: float = 600.0
+    halves: int = 2  # 1: the match ends (or goes to its shoot-out) after the first half
     initial_seconds: float = 2.0
     ready_seconds: float = 15.0
     set_seconds: float = 3.0
@@ -85,6 +86,8 @@ class RefereeConfig:
                 raise MatchConfigError(f"referee {name} = {value!r}; expected a finite number {'> 0' if name in positive else '>= 0'}")
         if self.fallen_limit_s is not None and not (math.isfinite(self.fallen_limit_s) and self.fallen_limit_s > 0):
             raise MatchConfigError(f"referee fallen_limit_s = {self.fallen_limit_s!r}; expected a number > 0 or None")
+        if isinstance(self.halves, bool) or self.halves not in (1, 2):
+            raise MatchConfigError(f"referee halves = {self.halves!r}; expected 1 or 2")
         for name in ("shootout_kicks", "max_sudden_death_rounds"):
             value = getattr(self, name)
             if not isinstance(value, int) or value < (1 if name == "shootout_kicks" else 0):
@@ -206,6 +209,18 @@ class Referee:
         self._maybe_broadcast(now)
         return self._flush()
 
+    def play_on(self) -> RefereeUpdate:
+        """Play begins now, where the robots and the ball stand (after :meth:`start`, for a start other than a
+        kick-off): state PLAYING, no team kicks off, the kick-off-shot rule does not apply."""
+        now = self.pitch.time_s
+        self.kickoff = None
+        self._kickoff_shot_open = False
+        self._ball_left_circle = True
+        self._pending_out = None
+        self._enter(GameState.PLAYING, now)
+        self.broadcast = self.game_control()
+        return self._flush()
+
     def update(self) -> RefereeUpdate:
         """Judge the world after one control step; place things; return what happened."""
         now = self.pitch.time_s
@@ -302,7 +317,7 @@ class Referee:
         self._event(EventKind.THROW_IN, x=round(x, 3), y=round(y, 3), line=pending.out.kind.value)
 
     def _end_half(self, now: float) -> None:
-        if self.half == 1:
+        if self.half == 1 and self.config.halves == 2:
             self._event(EventKind.HALF_TIME, score={"home": self.score[Side.HOME], "away": self.score[Side.AWAY]})
             self.half = 2
             self.home_color = self.home_color.other

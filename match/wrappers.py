@@ -8,8 +8,8 @@ they are. A wrapper holds only its settings and the env it wraps, so a copy (``p
 ``copy.deepcopy``, a SuperSuit worker process) builds its own world as the env does.
 
 - :class:`ImageObservations`: the camera image alone, ``Box(0, 255, (120, 160, 3), uint8)``.
-- :class:`FlatObservations`: everything but the image as one float32 vector
-  (:func:`flat_layout` names every entry).
+- :class:`FlatObservations`: everything but the image as one float32 vector, each entry
+  scaled onto [-1, 1] (:mod:`match.flat_scales`), or in its own units.
 - :class:`DiscreteActions`: ``MultiDiscrete`` (or ``Discrete``) choices of a motion, head
   angles and a camera, and optionally a one-byte radio symbol (:class:`ActionSet`).
 
@@ -29,6 +29,7 @@ from gymnasium import spaces
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
 from match.errors import InvalidActionError, MatchConfigError, shown
+from match.flat_scales import scaled_layout
 from match.protocol.actions import make_action
 from match.protocol.spaces import HEAD_HIGH, HEAD_LOW, IMAGE_SHAPE, WALK_HIGH, WALK_LOW, CameraChoice
 from world.motions import Motion
@@ -153,23 +154,33 @@ class FlatObservations(_ObservationWrapper):
     The entries are the observation dict's values in the order of the observation space's
     keys (``accelerometer`` m/s^2, ``bumpers``, ``camera``, ``fallen``, ``game/...``,
     ``gyro`` rad/s, ``head`` rad, the motion status, ``odometry`` m, m, rad, ``radio/count``,
-    ``radio/dropped``, ``sonar`` m), in their own units (torso frame; discrete values as
-    their index); ``layout.labels`` names each. With ``radio=True`` the inbox's senders,
-    lengths and bytes (0-255) are in it too (1040 more entries). 43 entries without radio.
-    Bounds are the observation space's: scale them yourself if the learner needs it (the
-    walk's ``motion_remaining_s`` reads 1e6).
+    ``radio/dropped``, ``sonar`` m; torso frame; discrete values as their index). With
+    ``radio=True`` the inbox's senders, lengths and bytes are in it too (1040 more entries).
+
+    ``scaled=True`` (the default): every entry lies in [-1, 1] (:mod:`match.flat_scales`: each
+    value clipped to its documented range and mapped linearly; the two placeholder values,
+    ``motion_remaining_s`` of the endless walk and ``game/seconds_since_drop_in`` before any
+    throw-in, as a flag plus a bounded value); 45 entries without radio; ``labels`` names each.
+    ``scaled=False``: the values in their own units within the observation space's bounds
+    (43 entries; ``layout.labels``), placeholders included.
     """
 
-    def __init__(self, env, radio: bool = False):
+    def __init__(self, env, radio: bool = False, scaled: bool = True):
         if not isinstance(radio, bool):
             raise MatchConfigError(f"radio = {shown(radio)}; expected True or False")
+        if not isinstance(scaled, bool):
+            raise MatchConfigError(f"scaled = {shown(scaled)}; expected True or False")
         super().__init__(env)
         self.radio = radio
+        self.scaled = scaled
         self.layout = flat_layout(env.observation_space(env.possible_agents[0]), radio=radio)
-        self._space = self.layout.space
+        self.scales = scaled_layout(self.layout.paths, self.layout.sizes, self.layout.labels, self.layout.space)
+        self.labels = self.scales.labels if scaled else self.layout.labels
+        self._space = self.scales.space if scaled else self.layout.space
 
     def _convert(self, agent: str, observation) -> np.ndarray:
-        return self.layout.flatten(observation)
+        raw = self.layout.flatten(observation)
+        return self.scales.scale(raw) if self.scaled else raw
 
 
 # ---- actions ------------------------------------------------------------------------------
@@ -272,7 +283,8 @@ class DiscreteActions(BaseParallelWrapper):
     The action space is ``MultiDiscrete(action_set.nvec)``: [motion, head, camera] (and
     [..., radio] with radio symbols), or with ``flat=True`` one ``Discrete`` over every
     combination (index = motion * (heads * cameras * ...) + head * (cameras * ...) + ...,
-    C order). Action spaces are seeded once, agent ``i`` with ``i``, as the env's. An agent
+    C order). Action spaces are seeded as the env's (agent ``i`` with the env's
+    ``space_seed(i)``: ``i`` for an env built directly, fresh entropy for a copy). An agent
     without an action, or with None, stands (as in the env). A choice outside its range, or
     not integers, is refused with an :class:`~match.errors.InvalidActionError` naming the agent
     and the value, before the env steps.
@@ -288,10 +300,19 @@ class DiscreteActions(BaseParallelWrapper):
         self.flat = flat
         nvec = self.action_set.nvec
         self._spaces = {}
-        for i, agent in enumerate(env.possible_agents):
-            space = spaces.Discrete(int(np.prod(nvec))) if flat else spaces.MultiDiscrete(nvec)
-            space.seed(i)
-            self._spaces[agent] = space
+        for agent in env.possible_agents:
+            self._spaces[agent] = spaces.Discrete(int(np.prod(nvec))) if flat else spaces.MultiDiscrete(nvec)
+        self._seed_spaces()
+
+    def __setstate__(self, state: dict) -> None:
+        """A copy's spaces are seeded as its env's (apart from the original's)."""
+        self.__dict__.update(state)
+        self._seed_spaces()
+
+    def _seed_spaces(self) -> None:
+        space_seed = getattr(self.env.unwrapped, "space_seed", None)
+        for i, agent in enumerate(self.env.possible_agents):
+            self._spaces[agent].seed(i if space_seed is None else space_seed(i))
 
     def action_space(self, agent: str) -> spaces.Space:
         self.env.action_space(agent)  # refuses an unknown agent as the env does

@@ -130,7 +130,9 @@ def test_bench_writes_positive_timings(tmp_path: Path, capsys: pytest.CaptureFix
     for key in ("env_steps_per_s", "render_physics_only_steps_per_s", "env_over_render_physics_ratio", "match_real_time_factor",
                 "vec_env_steps_per_s", "vec_env_steps_per_s_cameras_off", "vec_env_agent_steps_per_s",
                 "broadcast_render_fps", "env_steps_per_s_cameras_off", "env_step_cameras_off_ms_median",
-                "env_steps_per_s_tiny", "env_step_ms_median_tiny"):
+                "env_steps_per_s_tiny", "env_step_ms_median_tiny", "learner_view_flat_steps_per_s",
+                "learner_view_image_steps_per_s", "learner_view_percepts_steps_per_s",
+                "learner_view_percepts_over_env_ratio"):
         assert isinstance(results[key], float) and results[key] > 0.0, (key, results[key])
     assert results["vec_env_agent_steps_per_s"] == pytest.approx(8 * results["vec_env_steps_per_s"])
     assert results["env_steps_per_s_cameras_off"] > results["env_steps_per_s"]  # no frames to render

@@ -127,8 +127,8 @@ def test_copies_have_their_own_worlds():
     original.close()
 
 
-def test_a_copy_continues_the_seed_sequence():
-    """reset() without a seed: the copy draws the seed the original's next reset() draws."""
+def test_a_copy_plays_its_own_matches():
+    """A copy lies on its own stream: neither its seeded nor its unseeded resets repeat the original's."""
     walk = {
         "home_0": make_action(Motion.WALK, walk=(0.2, 0.0, 0.3)),
         "away_0": make_action(Motion.WALK, walk=(0.2, 0.0, -0.3)),
@@ -146,11 +146,12 @@ def test_a_copy_continues_the_seed_sequence():
     original = small_env()
     original.reset(seed=8)
     twin = copy.deepcopy(original)
-    original_run, twin_run = trajectory(original, None), trajectory(twin, None)
-    assert all(np.array_equal(a, b) for a, b in zip(original_run, twin_run))
-    other_run = trajectory(original, 9)
-    assert not all(np.array_equal(a, b) for a, b in zip(original_run, other_run))  # the seed shows in the walk
-    for env in (original, twin):
+    for seed in (None, 9):
+        original_run, twin_run = trajectory(original, seed), trajectory(twin, seed)
+        assert not all(np.array_equal(a, b) for a, b in zip(original_run, twin_run)), seed
+    replay = small_env(stream=twin.stream)  # the copy's stream, built anew: the copy's match again
+    assert all(np.array_equal(a, b) for a, b in zip(trajectory(replay, 9), twin_run))
+    for env in (original, twin, replay):
         env.close()
 
 
@@ -209,10 +210,43 @@ def test_pettingzoo_state_test():
 # ---- conventions --------------------------------------------------------------------
 
 
-def test_human_render_mode_is_refused():
-    assert RobotStadiumEnv.metadata["render_modes"] == ["rgb_array"]
-    with pytest.raises(MatchConfigError, match=r"'human'.*\['rgb_array'\]"):
-        small_env(render_mode="human")
+@pytest.fixture
+def no_display(monkeypatch):
+    """pygame draws into memory: the CI machine has no display."""
+    pytest.importorskip("pygame", reason="the human extra (pygame) is not installed")
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+
+
+def test_human_render_mode_shows_the_broadcast_view(no_display):
+    import pygame
+
+    env = small_env(render_mode="human")
+    assert env.metadata["render_modes"] == ["human", "rgb_array"]
+    env.reset(seed=0)
+    assert env.render() is None and pygame.display.get_surface().get_size() == (640, 480)
+    env.step({})
+    pixels = pygame.surfarray.array3d(pygame.display.get_surface()).transpose(1, 0, 2)
+    twin = small_env(render_mode="rgb_array")
+    twin.reset(seed=0)
+    twin.step({})
+    assert np.array_equal(pixels, twin.render())  # the window shows the rgb_array frame
+    env.close()
+    assert pygame.display.get_surface() is None
+    twin.close()
+    with pytest.raises(MatchConfigError, match=r"'ansi'.*\['human', 'rgb_array'\]"):
+        small_env(render_mode="ansi")
+
+
+def test_render_takes_the_mode_as_rllibs_adapter_passes_it():
+    env = small_env(render_mode="rgb_array")
+    env.reset(seed=0)
+    assert env.render(None).shape == env.render("rgb_array").shape == (480, 640, 3)
+    with pytest.raises(MatchConfigError, match="render_mode"):
+        env.render("human")
+    pettingzoo_env = pytest.importorskip("ray.rllib.env.wrappers.pettingzoo_env", reason="the ray extra: RLlib")
+    adapted = pettingzoo_env.ParallelPettingZooEnv(env)
+    assert adapted.render().shape == (480, 640, 3)
+    adapted.close()
 
 
 def test_aec_factories_and_envs_built_alike_sample_alike():
@@ -283,13 +317,8 @@ def test_pettingzoo_max_cycles_test_on_the_module():
     max_cycles_test(env_module)  # match.env has parallel_env, env and raw_env; 4 v 4, four cycles
 
 
-def test_pettingzoo_render_test():
-    def env_fn(render_mode=None):
-        # render_test builds its first env with render_mode="human" only to read metadata["render_modes"];
-        # "human" is refused (test_human_render_mode_is_refused), so that one env is built without a render mode.
-        return small_aec(render_mode=None if render_mode == "human" else render_mode)
-
-    render_test(env_fn)
+def test_pettingzoo_render_test(no_display):
+    render_test(small_aec)
 
 
 def test_pettingzoo_api_test_on_the_aec_env():

@@ -82,7 +82,7 @@ def test_image_observations_are_the_camera_images(shared):
 
 
 def test_flat_observations_follow_the_observation_dict(shared):
-    env = FlatObservations(shared)
+    env = FlatObservations(shared, scaled=False)
     labels = env.layout.labels
     assert len(labels) == 43 and env.observation_space("away_0").shape == (43,)
     assert "image" not in " ".join(labels) and "radio/data/0" not in labels
@@ -107,6 +107,29 @@ def test_flat_observations_follow_the_observation_dict(shared):
     assert len(with_radio.labels) == 43 + 8 + 8 + 8 * 128
     with pytest.raises(MatchConfigError, match="radio = 1"):
         FlatObservations(shared, radio=1)
+    with pytest.raises(MatchConfigError, match="scaled = 'yes'"):
+        FlatObservations(shared, scaled="yes")
+
+
+def test_scaled_flat_observations_map_each_entry_onto_its_range(shared):
+    scaled, raw = FlatObservations(shared), FlatObservations(shared, scaled=False)
+    assert scaled.observation_space("home_0") == spaces.Box(-1.0, 1.0, (45,), np.float32)
+    labels = scaled.labels
+    assert labels.index("motion_remaining_s/endless") == labels.index("motion_remaining_s") + 1
+    assert labels.index("game/seconds_since_drop_in/none") == labels.index("game/seconds_since_drop_in") + 1
+    shared.reset(seed=2)
+    _playing(shared)
+    walk = {"home_0": make_action(Motion.WALK, walk=(0.1, 0.0, 0.0)), "away_0": make_action()}
+    for _ in range(3):
+        observations, *_ = shared.step(walk)
+    vector = dict(zip(labels, scaled._convert("home_0", observations["home_0"]).tolist()))
+    units = dict(zip(raw.labels, raw._convert("home_0", observations["home_0"]).tolist()))
+    assert units["motion_remaining_s"] >= 1e6 and vector["motion_remaining_s/endless"] == 1.0
+    assert vector["motion_remaining_s"] == -1.0
+    assert units["game/seconds_since_drop_in"] >= 1e5 and vector["game/seconds_since_drop_in/none"] == 1.0
+    assert vector["head/0"] == pytest.approx(-1.0 + 2.0 * (units["head/0"] + 2.0857) / (2 * 2.0857), abs=1e-3)
+    assert vector["accelerometer/2"] == pytest.approx(units["accelerometer/2"] / 30.0, abs=1e-6)
+    assert vector["game/player"] == -1.0 and vector["fallen"] == -1.0
 
 
 # ---- discrete actions ----------------------------------------------------------------------
@@ -295,7 +318,9 @@ def test_supersuit_vector_envs_in_two_spawned_processes(spawn, chain):
     view = wrap(parent)
     if chain == "image":
         assert view.observation_space("home_0").shape == (32, 42, 3)
-    vector = ss.concat_vec_envs_v1(ss.pettingzoo_env_to_vec_env_v1(view), 2, num_cpus=2, base_class="gymnasium")
+    # Kept: gymnasium 1.2's VectorEnv.__del__ closes SuperSuit's Markov wrapper, and with it the env it wraps.
+    markov = ss.pettingzoo_env_to_vec_env_v1(view)
+    vector = ss.concat_vec_envs_v1(markov, 2, num_cpus=2, base_class="gymnasium")
     try:
         assert isinstance(vector, VectorEnv) and vector.num_envs == 4
         single_obs, single_act = vector.observation_space, vector.action_space

@@ -384,6 +384,44 @@ def bench_vec_env(repeats: int) -> dict[str, float]:
     return metrics
 
 
+LEARNER_VIEWS = ("flat", "image", "percepts")  # the learners' observation views timed by bench_learner_views
+
+
+def bench_learner_views(repeats: int) -> dict[str, float]:
+    """``env.step`` through each learner view (``FlatObservations``, ``ImageObservations``,
+    ``PerceptObservations``): 8 agents, random actions, every camera on (``learner_view_<view>_*``), and the
+    percepts view's step over the plain env's (``learner_view_percepts_over_env_ratio``)."""
+    from agents.learning import PerceptObservations
+    from match.wrappers import FlatObservations, ImageObservations
+
+    wrappers = {"flat": FlatObservations, "image": ImageObservations, "percepts": PerceptObservations}
+    metrics: dict[str, float] = {}
+    plain_ms = None
+    for name in (None, *LEARNER_VIEWS):
+        raw = _bench_env_instance()
+        view = raw if name is None else wrappers[name](raw)
+        actions: dict = {}
+
+        def draw_actions() -> None:
+            if not view.agents:
+                view.reset(seed=1)
+            actions.clear()
+            actions.update(_random_actions(raw))
+
+        try:
+            view.reset(seed=0)
+            step_ms = time_ms(lambda: view.step(actions), repeats, ENV_WARMUP, before=draw_actions)
+        finally:
+            raw.close()
+        if name is None:
+            plain_ms = float(np.median(step_ms))
+            continue
+        metrics.update(summarize(f"learner_view_{name}_step", step_ms))
+        metrics[f"learner_view_{name}_steps_per_s"] = 1e3 / metrics[f"learner_view_{name}_step_ms_median"]
+    metrics["learner_view_percepts_over_env_ratio"] = metrics["learner_view_percepts_step_ms_median"] / plain_ms
+    return metrics
+
+
 BROADCAST_WARMUP = 5
 
 
@@ -625,6 +663,8 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               bench_env),
     Benchmark("vec_env", "SuperSuit's vector env, 2 envs of 8 agents in 2 processes, cameras on and off",
               bench_vec_env),
+    Benchmark("learner_views", "env.step() through the flat, image and percept views: 8 agents, all cameras on",
+              bench_learner_views),
     Benchmark("broadcast", "env.render(): the 640x480 broadcast view, 8 robots", bench_broadcast),
     Benchmark("match", "an 8-robot match with the default policies in a fresh process, real-time factor and peak "
               "memory", bench_match),
