@@ -293,6 +293,25 @@ def bench_env(repeats: int) -> dict[str, float]:
     return {**metrics, **_bench_env_tiny(repeats)}
 
 
+def _time_random_steps(view, env, repeats: int) -> np.ndarray:
+    """``repeats`` timings (ms) of ``view.step`` with random valid actions of ``env`` (the env under the view,
+    every camera on), drawn before each step and not timed; a finished episode starts again; ``env`` is closed
+    after."""
+    actions: dict = {}
+
+    def draw_actions() -> None:
+        if not view.agents:
+            view.reset(seed=1)
+        actions.clear()
+        actions.update(_random_actions(env))
+
+    try:
+        view.reset(seed=0)
+        return time_ms(lambda: view.step(actions), repeats, ENV_WARMUP, before=draw_actions)
+    finally:
+        env.close()
+
+
 def _bench_env_instance(renderer: str = "numba"):
     """The benchmarks' env: 8 agents, short pauses before the kick-off, cameras drawn by ``renderer``."""
     from match import parallel_env
@@ -315,19 +334,7 @@ def _bench_env_tiny(repeats: int) -> dict[str, float]:
     """``env.step`` as :func:`bench_env` times it (all cameras on) with the reference renderer
     (``env_step_*_tiny``)."""
     env = _bench_env_instance(renderer="tiny")
-    actions: dict = {}
-
-    def draw_actions() -> None:
-        if not env.agents:
-            env.reset(seed=1)
-        actions.clear()
-        actions.update(_random_actions(env))
-
-    try:
-        env.reset(seed=0)
-        step_ms = time_ms(lambda: env.step(actions), repeats, ENV_WARMUP, before=draw_actions)
-    finally:
-        env.close()
+    step_ms = _time_random_steps(env, env, repeats)
     metrics = _suffixed(summarize("env_step", step_ms), "_tiny")
     metrics["env_steps_per_s_tiny"] = 1e3 / metrics["env_step_ms_median_tiny"]
     return metrics
@@ -399,20 +406,7 @@ def bench_learner_views(repeats: int) -> dict[str, float]:
     plain_ms = None
     for name in (None, *LEARNER_VIEWS):
         raw = _bench_env_instance()
-        view = raw if name is None else wrappers[name](raw)
-        actions: dict = {}
-
-        def draw_actions() -> None:
-            if not view.agents:
-                view.reset(seed=1)
-            actions.clear()
-            actions.update(_random_actions(raw))
-
-        try:
-            view.reset(seed=0)
-            step_ms = time_ms(lambda: view.step(actions), repeats, ENV_WARMUP, before=draw_actions)
-        finally:
-            raw.close()
+        step_ms = _time_random_steps(raw if name is None else wrappers[name](raw), raw, repeats)
         if name is None:
             plain_ms = float(np.median(step_ms))
             continue
