@@ -323,3 +323,29 @@ def test_the_teams_are_named_by_their_policies() -> None:
                                          "away_0": {"policy": "scripted"}, "away_1": {"policy": "stand"}}}}
     assert teams_by_policy(played) == "team vs scripted+stand"
     assert teams_by_policy({}) is None and teams_by_policy({"played_by": {"policies": "x"}}) is None
+
+
+def test_the_settings_panel_lists_what_the_summary_recorded_as_text() -> None:
+    from scenarios.replay.data import SETTING_CHARS, match_settings
+
+    summary = {"seed": 7, "played_by": {"policies": {"home_0": {"policy": "team:p.toml", "file_hash": "ab12"}},
+                                        "controllers": {"in_process": False, "step_budget_s": 0.5}},
+               "config": {"home_players": 1, "away_players": 2, "half_seconds": 30.0,
+                          "world": {"camera_profile": "nao", "render": {"renderer": "numba"}}},
+               "command_line": ["robotstadium", "match", "--seed", "7"], "versions": {"numpy": "2"},
+               "machine": {"cpu": "<b>x</b>" * 200}}
+    rows = dict(match_settings(summary))
+    assert rows["home_0"] == "team:p.toml, file_hash ab12"
+    assert (rows["seed"], rows["players"], rows["half"]) == ("7", "1 v 2", "30 s")
+    assert (rows["camera profile"], rows["renderer"], rows["command"]) == ("nao", "numba", "robotstadium match --seed 7")
+    assert rows["controllers"] == "in_process False, step_budget_s 0.5"
+    assert len(rows["machine"]) == SETTING_CHARS  # cut; the page sets it as text, never as markup
+    assert match_settings({}) == [] and match_settings({"config": "x", "played_by": 3}) == []
+
+
+def test_a_settings_value_cannot_close_the_script(synthetic: Path) -> None:
+    built = data.replay_data(load_match(synthetic))
+    built["settings"] = [["command", "</script><script>alert(1)</script>"]]
+    page = render_page(built)
+    assert page.count("</script>") == 2
+    assert _embedded(page)["settings"][0][1] == "</script><script>alert(1)</script>"

@@ -103,6 +103,7 @@ def replay_data(record: MatchRecord, stride: int | None = None) -> dict:
             "ball": channel(record.ball[frames, :2], POSE_SCALE),
         },
         "robots": robots,
+        "settings": match_settings(summary),
         "labels": {name: list(values) for name, values in record.labels.items()},
         "status": status,
         "events": [_event(e) for e in record.events],
@@ -215,3 +216,49 @@ def teams_by_policy(summary: dict) -> str | None:
     if not sides["home"] or not sides["away"]:
         return None
     return " vs ".join("+".join(names) for names in sides.values())
+
+
+SETTING_CHARS = 600  # a setting's text on the page is cut to this many characters
+
+
+def match_settings(summary: dict) -> list[list[str]]:
+    """The settings a match was played with, as ``[name, value]`` rows of text for the page's settings
+    panel, from its summary (rows whose value the summary lacks are left out; values cut to
+    :data:`SETTING_CHARS` characters)."""
+    config = summary.get("config") if isinstance(summary.get("config"), dict) else {}
+    world = config.get("world") if isinstance(config.get("world"), dict) else {}
+    played_by = summary.get("played_by") if isinstance(summary.get("played_by"), dict) else {}
+    rows: list[tuple[str, object]] = []
+    policies = played_by.get("policies")
+    if isinstance(policies, dict):
+        for agent, record in policies.items():
+            if isinstance(record, dict):
+                details = {key: item for key, item in record.items() if key != "policy"}
+                rows.append((str(agent), ", ".join(filter(None, (str(record.get("policy")), _plain(details))))))
+    rows += [
+        ("seed", summary.get("seed")),
+        ("players", _pair(config.get("home_players"), config.get("away_players"))),
+        ("half", None if config.get("half_seconds") is None else f"{config['half_seconds']:g} s"),
+        ("shoot-out", config.get("shootout")),
+        ("controllers", _plain(played_by.get("controllers"))),
+        ("camera profile", world.get("camera_profile")),
+        ("renderer", (world.get("render") or {}).get("renderer") if isinstance(world.get("render"), dict) else None),
+        ("referee", _plain(config.get("referee"))),
+        ("radio", _plain(config.get("radio"))),
+        ("versions", _plain(summary.get("versions"))),
+        ("machine", _plain(summary.get("machine"))),
+        ("command", " ".join(str(part) for part in summary["command_line"])
+         if isinstance(summary.get("command_line"), list) else None),
+    ]
+    return [[name, str(value)[:SETTING_CHARS]] for name, value in rows if value is not None]
+
+
+def _pair(home: object, away: object) -> str | None:
+    return None if home is None or away is None else f"{home} v {away}"
+
+
+def _plain(value: object) -> str | None:
+    """A mapping as "key value, key value" text (None stays None)."""
+    if isinstance(value, dict):
+        return ", ".join(f"{key} {_plain(item) if isinstance(item, dict) else item}" for key, item in value.items())
+    return None if value is None else str(value)

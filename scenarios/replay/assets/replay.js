@@ -460,8 +460,22 @@
     requestAnimationFrame(tick);
   }
 
+  // The match's settings (who played, seed, referee, versions...), as text: nothing of them is markup.
+  function buildSettings() {
+    const table = document.getElementById("settings");
+    const rows = DATA.settings || [];
+    document.getElementById("settings-panel").hidden = rows.length === 0;
+    rows.forEach(function (row) {
+      const tr = document.createElement("tr");
+      const th = document.createElement("th"); th.textContent = row[0];
+      const td = document.createElement("td"); td.textContent = row[1];
+      tr.appendChild(th); tr.appendChild(td); table.appendChild(tr);
+    });
+  }
+
   const summary = MATCH.summary || {};
   document.getElementById("title").textContent = DATA.title + (summary.winner ? "  (winner: " + summary.winner + ")" : "");
+  buildSettings();
   buildControls();
   buildToggles();
   buildTimeline();
