@@ -76,3 +76,17 @@ def test_a_record_without_who_played_is_refused_with_one_line(tmp_path: Path) ->
     done = _robotstadium(ROOT, "rerun", str(old), "--out", str(tmp_path / "new"))
     assert done.returncode == 2 and "played_by" in done.stderr and "Traceback" not in done.stderr
     assert not (tmp_path / "new").exists()
+
+
+def test_a_tournament_match_is_played_again_from_its_directory(tmp_path: Path) -> None:
+    done = _robotstadium(tmp_path, "tournament", "scripted", "stand", "--matches", "2", "--players", "1",
+                         "--half-seconds", "2", "--no-shootout", "--no-replay", "--no-progress", "--workers", "1",
+                         "--out", "t")
+    assert done.returncode == 0, done.stderr
+    match = tmp_path / "t" / "matches" / "001"  # the second match: the policies at the other ends
+    summary = json.loads((match / "summary.json").read_text())
+    assert {record["policy"] for record in summary["played_by"]["policies"].values()} == {"scripted", "stand"}
+    done = _robotstadium(tmp_path, "rerun", str(match), "--out", "again", "--no-progress")
+    assert done.returncode == 0, done.stderr
+    for name in ("events.jsonl", "match_log.npz"):
+        assert (match / name).read_bytes() == (tmp_path / "again" / name).read_bytes()

@@ -73,3 +73,19 @@ def test_video_of_a_robot_not_on_the_field_is_refused_before_writing(
     message = capsys.readouterr().err
     for word in words:
         assert word in message
+
+
+def test_a_frames_caption_names_the_robots_policy(tmp_path: Path) -> None:
+    from types import SimpleNamespace
+
+    from scenarios.matches.video import HEADER_PX, VideoRecorder
+
+    match = SimpleNamespace(world=SimpleNamespace(time_s=1.0), state=SimpleNamespace(name="PLAYING"))
+    captions = []
+    for policies in (None, {"home_1": "team"}, {"home_1": "examples.my_team:Team" * 3}):
+        recorder = VideoRecorder(tmp_path, ["home_1"], policies=policies)
+        panel = recorder._panel(360, "home_1", match, (0.0, 0.0, 0.0), (0, 0, 255), None, (0.0, 0.0))
+        captions.append(panel[:HEADER_PX])
+        recorder.close()
+    assert not np.array_equal(captions[0], captions[1])  # the policy's name is written
+    assert not np.array_equal(captions[1], captions[2])

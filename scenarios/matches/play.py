@@ -135,7 +135,8 @@ def run_lineup_match(
         from scenarios.matches.video import VideoRecorder  # only when a video is asked for (not in tournaments)
 
         assert out_dir is not None
-        with VideoRecorder(out_dir, filmed) as recorder:
+        names = {str(a): lineup.policy_name(a) for a in agents}
+        with VideoRecorder(out_dir, filmed, policies=names) as recorder:
             return run_match(config, policies, seed=seed, out_dir=out_dir, progress=progress, max_steps=max_steps,
                              match=match, observer=recorder, state_hashes=state_hashes, played_by=played_by)
     finally:

@@ -12,7 +12,8 @@ players, whose camera is on every other 40 ms step). A video frame, left to righ
   border, scan lines, formed and classified lines, landmarks, the ball;
 - a field map (field frame, +x to the right) with the robot's true pose (filled, in its
   team's colour), its own pose estimate (a red ring, and the error line to the truth) when
-  its policy reports one, the true ball, and the time, game state and estimate error.
+  its policy reports one, the true ball, and the robot's policy, the time, game state and
+  estimate error.
 
 Evaluation only: the recorder runs a vision pipeline of its own on the images and reads
 the ground truth; nothing goes back to the policies. Encoded as H.264 by imageio's ffmpeg
@@ -51,6 +52,7 @@ SCALE = 3  # camera pixels -> video pixels
 MAP_WIDTH_PX = 480
 HEADER_PX = 44  # text above the field map
 MARGIN_PX = 10
+POLICY_CHARS = 22  # a policy's name in a frame's caption is cut to this many characters
 RATE_FRAMES = 5  # the camera rate is measured over this many first frames
 MAX_FPS = 25.0  # one frame per 40 ms control step
 MIN_FPS = 1.0
@@ -90,9 +92,11 @@ class VideoRecorder:
     read them. Use as a context manager, or call :meth:`close`: the files are complete only then.
     """
 
-    def __init__(self, out_dir: Path, agents: Sequence[str], camera_model: str = "exact"):
+    def __init__(self, out_dir: Path, agents: Sequence[str], camera_model: str = "exact",
+                 policies: Mapping[str, str] | None = None):
         self.out_dir = Path(out_dir)
         self.agents = tuple(agents)
+        self.policies = dict(policies or {})  # each robot's policy as given, named in its frames
         self.pipeline = VisionPipeline(camera_model)
         self._videos = {agent: _Video(self.out_dir / video_name(agent)) for agent in self.agents}
         self._map = _field_map()
@@ -160,7 +164,9 @@ class VideoRecorder:
             error = f"estimate off {error_cm:.0f} cm, {error_deg:.0f} deg"
         else:
             error = "no estimate"
-        line1 = f"{agent}  {match.world.time_s:7.2f} s  {match.state.name}"
+        policy = self.policies.get(agent)
+        who = agent if policy is None else f"{agent} {_cut(policy, POLICY_CHARS)}"
+        line1 = f"{who}  {match.world.time_s:7.2f} s  {match.state.name}"
         cv2.putText(panel, line1, (MARGIN_PX, 18), cv2.FONT_HERSHEY_SIMPLEX, 0.5, TEXT_RGB, 1, cv2.LINE_AA)
         cv2.putText(panel, error, (MARGIN_PX, 37), cv2.FONT_HERSHEY_SIMPLEX, 0.5, TEXT_RGB, 1, cv2.LINE_AA)
         return panel
@@ -217,6 +223,10 @@ class VideoRecorder:
 
 
 # ---- the field map ---------------------------------------------------------------------------
+
+
+def _cut(text: str, chars: int) -> str:
+    return text if len(text) <= chars else text[: chars - 1] + "~"
 
 
 def _field_map():
