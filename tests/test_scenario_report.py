@@ -168,6 +168,7 @@ def test_summary_json(tmp_path: Path) -> None:
                               "orientation_ci95_deg": 2.86}
     assert (data["samples_requested"], data["runs"], data["seed"]) == (4, 1, 0)
     assert data["run_seeds"] == [123, 456] and data["measured"] == ["home_1"]
+    assert data["played_by"]["home_1"] == "scan_localize"  # who played: every robot's policy
     assert data["camera_model"] == "exact" and data["versions"] == {"numpy": "1.0"}
     assert (data["wall_seconds"], data["sim_seconds"]) == (3.25, 80.0)
 

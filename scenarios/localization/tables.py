@@ -80,6 +80,7 @@ def scenario_summary(report: ScenarioReport) -> dict:
         "seed": spec.seed,
         "run_seeds": [int(s) for s in report.run_seeds],
         "measured": list(spec.measured),
+        "played_by": {robot.id: robot.policy for robot in spec.robots},
         "camera_model": spec.camera_model,
         "camera_profile": spec.camera_profile,
         "wall_seconds": float(report.wall_seconds),
