@@ -1,5 +1,5 @@
 """``python -m scenarios.cli``: the ``robotstadium`` command."""
 
-from scenarios.cli import main
+from scenarios.launch import main
 
 raise SystemExit(main())

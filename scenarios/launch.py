@@ -1,0 +1,31 @@
+"""The ``robotstadium`` command's entry point: stoppable from its first instant.
+
+Loading the command line (the simulator, numpy, OpenCV, numba) takes about a second; a SIGTERM in
+that time would otherwise end the process by the default action, with no word. Here a SIGTERM
+is a Ctrl-C (``KeyboardInterrupt``) before anything is imported, and one that arrives before a
+command began ends with one line and exit 130: nothing was written yet. Once a command runs,
+:func:`scenarios.cli.main` handles both itself.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+
+EXIT_INTERRUPTED = 130  # as scenarios.common.termination: the shell's code for a Ctrl-C
+
+
+def _interrupt(signum: int, _frame: object) -> None:
+    raise KeyboardInterrupt(f"signal {signal.Signals(signum).name}")
+
+
+def main() -> int:
+    """Run ``robotstadium`` with the process's arguments; return its exit code."""
+    signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        from scenarios.cli import main as run_command_line
+
+        return run_command_line()
+    except KeyboardInterrupt:
+        print("robotstadium: stopped before the command began; nothing was written", file=sys.stderr)
+        return EXIT_INTERRUPTED
