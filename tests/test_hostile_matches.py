@@ -2,8 +2,8 @@
 
 The attackers stand as the clean line-up's robot does (or stand for a fault), so the world plays the
 same match: what the other team saw is compared frame by frame with the clean match (the victims
-report a checksum of every frame as their pose estimate), the match completes in about the clean
-match's time, and no process a policy started is left.
+report a checksum of every frame as their pose estimate), and the match completes in about the clean
+match's time. Processes a policy starts are ended with its match (tests/test_controllers.py).
 """
 
 from __future__ import annotations
