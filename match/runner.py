@@ -48,6 +48,7 @@ from match.protocol.game_control import SecondaryState
 from match.protocol.ids import Side
 from match.protocol.policy import Policy, PoseTuple
 from match.statistics import TeamRadio, match_statistics
+import world
 
 log = logging.getLogger(__name__)
 
@@ -186,6 +187,7 @@ def run_match(
     """
     if state_hashes and out_dir is None:
         raise ValueError("state hashes need an output directory")
+    _warn_if_numpy_uncapped()
     if isinstance(policies, (InProcessControllers, ProcessControllers)):
         controllers: Controllers = policies
     else:
@@ -411,6 +413,25 @@ def machine_description() -> dict:
         pass
     return {"cpu": cpu, "architecture": platform.machine(), "system": platform.system(),
             "numpy_simd": numpy_simd_features()}
+
+
+AVX512_LEVEL = "X86_V4"  # numpy's name of the AVX-512 kernels that world caps (world/__init__.py)
+
+
+def _warn_if_numpy_uncapped() -> None:
+    """Log once a match runs numpy's AVX-512 kernels: numpy was imported before :mod:`world` could cap them
+    (see there), so this match may differ in the last bits, and then in its play, from the same seed played
+    by ``robotstadium`` (summary.json records the kernels as ``machine.numpy_simd``)."""
+    global _UNCAPPED_WARNED
+    if _UNCAPPED_WARNED or AVX512_LEVEL not in (numpy_simd_features() or ()):
+        return
+    _UNCAPPED_WARNED = True
+    log.warning("numpy runs its AVX-512 kernels (numpy was imported before world): this match may differ from "
+                "the same seed played by robotstadium; import world (or match) before numpy, or set "
+                "NPY_DISABLE_CPU_FEATURES='%s' before starting Python", world.NUMPY_CAP)
+
+
+_UNCAPPED_WARNED = False
 
 
 def numpy_simd_features() -> list[str] | None:

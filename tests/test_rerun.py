@@ -90,3 +90,14 @@ def test_a_tournament_match_is_played_again_from_its_directory(tmp_path: Path) -
     assert done.returncode == 0, done.stderr
     for name in ("events.jsonl", "match_log.npz"):
         assert (match / name).read_bytes() == (tmp_path / "again" / name).read_bytes()
+
+
+def test_a_record_played_with_other_numpy_kernels_is_refused_unless_forced(played: Path) -> None:
+    from scenarios.matches.rerun import RerunError, rerun_plan
+
+    summary = json.loads((played / "original" / "summary.json").read_text())
+    rerun_plan(summary)  # as recorded: it plays
+    summary["machine"]["numpy_simd"] = [*summary["machine"]["numpy_simd"], "X86_V5"]
+    with pytest.raises(RerunError, match="numpy's SIMD kernels"):
+        rerun_plan(summary)
+    assert any("numpy's SIMD kernels" in warning for warning in rerun_plan(summary, force=True).warnings)

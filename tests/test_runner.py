@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -192,3 +193,21 @@ def test_the_run_closes_the_match_it_builds_and_leaves_one_given_open(monkeypatc
         assert len(closed) == 1 and match.world is not None  # the caller's match: still open
     finally:
         match.close()
+
+
+def test_a_match_warns_when_numpy_was_imported_before_world_could_cap_its_kernels() -> None:
+    import subprocess
+    import sys
+
+    script = ("import numpy\n"  # before world: numpy keeps its AVX-512 kernels where the processor has them
+              "from match.runner import AVX512_LEVEL, numpy_simd_features, run_match\n"
+              "from match.game import MatchConfig\n"
+              "from agents.behavior.policies.stand import StandPolicy\n"
+              "config = MatchConfig(home_players=1, away_players=1)\n"
+              "print('AVX512' if AVX512_LEVEL in numpy_simd_features() else 'AVX2')\n"
+              "run_match(config, {'home_0': StandPolicy(), 'away_0': StandPolicy()}, progress=False, max_steps=2)\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                          env={k: v for k, v in os.environ.items() if k != "NPY_DISABLE_CPU_FEATURES"})
+    assert done.returncode == 0, done.stderr
+    warned = "numpy runs its AVX-512 kernels" in done.stderr
+    assert warned == done.stdout.strip().endswith("AVX512")

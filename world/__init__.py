@@ -19,14 +19,22 @@ _AVX512 = {2: "X86_V4 AVX512_ICL AVX512_SPR",
            1: "AVX512F AVX512CD AVX512_KNL AVX512_KNM AVX512_SKX AVX512_CLX AVX512_CNL AVX512_ICL AVX512_SPR"}
 
 
-def _cap_numpy_simd() -> None:
-    if "numpy" in sys.modules or "NPY_DISABLE_CPU_FEATURES" in os.environ:
-        return
+def _numpy_cap() -> str:
+    """The value of ``NPY_DISABLE_CPU_FEATURES`` that caps the installed numpy at AVX2."""
     try:
         major = int(metadata.version("numpy").split(".")[0])
     except (metadata.PackageNotFoundError, ValueError):
+        major = 2
+    return _AVX512[2 if major >= 2 else 1]
+
+
+NUMPY_CAP = _numpy_cap()
+
+
+def _cap_numpy_simd() -> None:
+    if "numpy" in sys.modules or "NPY_DISABLE_CPU_FEATURES" in os.environ:
         return
-    os.environ["NPY_DISABLE_CPU_FEATURES"] = _AVX512[2 if major >= 2 else 1]
+    os.environ["NPY_DISABLE_CPU_FEATURES"] = NUMPY_CAP
 
 
 _cap_numpy_simd()

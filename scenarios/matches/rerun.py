@@ -2,8 +2,8 @@
 
 :func:`rerun_plan` reads what a rerun needs (who played, the seeds and settings, the versions)
 and refuses, with :class:`RerunError` naming what differs, a record this installation would
-not play the same way: a policy file whose content changed, other package versions, other
-world settings; ``force`` plays it all the same. :func:`compare_matches` then compares the
+not play the same way: a policy file whose content changed, other package versions or numpy SIMD
+kernels, other world settings; ``force`` plays it all the same. :func:`compare_matches` then compares the
 new ``events.jsonl`` and ``match_log.npz`` with the original's and finds the first
 difference: the event line, or the log's step, robot and field.
 """
@@ -22,7 +22,7 @@ import numpy as np
 from match.controllers import ControllerLimits
 from match.game import MatchConfig
 from match.referee import RefereeConfig
-from match.runner import package_versions, plain_json
+from match.runner import numpy_simd_features, package_versions, plain_json
 from scenarios.matches.play import Lineup
 from scenarios.common.untrusted import SmallFileError, load_json, read_small_file
 from scenarios.matches.provenance import file_hash
@@ -102,6 +102,11 @@ def rerun_plan(summary: Mapping[str, object], *, force: bool = False, origin: st
         for package, version in versions.items():
             if now.get(package) != version:
                 problems.append(f"{package} {now.get(package)} here, {version} in the record")
+    machine = summary.get("machine")
+    recorded_simd = machine.get("numpy_simd") if isinstance(machine, dict) else None
+    if isinstance(recorded_simd, list) and recorded_simd != numpy_simd_features():
+        problems.append(f"numpy's SIMD kernels here are {numpy_simd_features()}, {recorded_simd} in the record "
+                        "(their last bits differ)")
     world = config.get("world")
     if isinstance(world, dict):
         defaults = MatchConfig().world
