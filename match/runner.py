@@ -26,6 +26,7 @@ import enum
 import importlib
 import json
 import logging
+import os
 import platform
 import sys
 import time
@@ -399,10 +400,11 @@ def package_versions() -> dict:
 
 
 def machine_description() -> dict:
-    """What a rerun needs to know about this machine: the CPU and numpy's SIMD features in use.
+    """What a rerun needs to know about this machine: the CPU, numpy's SIMD features in use and the kernels its
+    BLAS was pinned to (``blas_core``, :mod:`world`; None where not pinned).
 
     Runs are byte-identical on one machine and software stack; another CPU or another numpy
-    may take other SIMD paths (see the README's section on determinism).
+    may take other SIMD paths (see the design's section on determinism).
     """
     cpu = platform.processor() or None
     try:
@@ -412,7 +414,7 @@ def machine_description() -> dict:
     except OSError:
         pass
     return {"cpu": cpu, "architecture": platform.machine(), "system": platform.system(),
-            "numpy_simd": numpy_simd_features()}
+            "numpy_simd": numpy_simd_features(), "blas_core": os.environ.get("OPENBLAS_CORETYPE")}
 
 
 AVX512_LEVEL = "X86_V4"  # numpy's name of the AVX-512 kernels that world caps (world/__init__.py)

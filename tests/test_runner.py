@@ -211,3 +211,25 @@ def test_a_match_warns_when_numpy_was_imported_before_world_could_cap_its_kernel
     assert done.returncode == 0, done.stderr
     warned = "numpy runs its AVX-512 kernels" in done.stderr
     assert warned == done.stdout.strip().endswith("AVX512")
+
+
+def test_importing_world_first_pins_numpys_blas_kernels_and_the_summary_says_so() -> None:
+    import subprocess
+    import sys
+
+    import world
+
+    if not world._has_avx2_fma():
+        pytest.skip("not an x86-64 processor with AVX2 and FMA: nothing is pinned")
+    script = ("import world, numpy, ctypes\n"
+              "from match.runner import machine_description\n"
+              "lib = next(line.split()[-1] for line in open('/proc/self/maps') if 'openblas' in line)\n"
+              "name = next(n for n in ('scipy_openblas_get_corename64_', 'openblas_get_corename64_',\n"
+              "                        'openblas_get_corename') if hasattr(ctypes.CDLL(lib), n))\n"
+              "corename = getattr(ctypes.CDLL(lib), name)\n"
+              "corename.restype = ctypes.c_char_p\n"
+              "print(corename().decode(), machine_description()['blas_core'])\n")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60, env=env)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == [world.BLAS_CORE, world.BLAS_CORE]

@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
+import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -107,6 +108,10 @@ def rerun_plan(summary: Mapping[str, object], *, force: bool = False, origin: st
     if isinstance(recorded_simd, list) and recorded_simd != numpy_simd_features():
         problems.append(f"numpy's SIMD kernels here are {numpy_simd_features()}, {recorded_simd} in the record "
                         "(their last bits differ)")
+    if isinstance(machine, dict) and "blas_core" in machine and machine["blas_core"] != os.environ.get(
+            "OPENBLAS_CORETYPE"):
+        problems.append(f"OpenBLAS kernels {os.environ.get('OPENBLAS_CORETYPE')} here, {machine['blas_core']} in the "
+                        "record")
     world = config.get("world")
     if isinstance(world, dict):
         defaults = MatchConfig().world
