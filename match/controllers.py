@@ -12,7 +12,8 @@ kinds give the same decisions for policies that behave:
   (:attr:`ControllerLimits.group`), started from a clean server process (``forkserver``
   where there is one, else ``spawn``), so a controller cannot reach the simulator's objects.
   Observations go out and actions come back over pipes (the camera images through shared
-  memory of each process's own, :mod:`match.shared_images`); a controller is confined to its
+  memory of each process's own, :mod:`match.shared_images`; an answer is read bounded in size,
+  time and kind, :mod:`match.answers`: one refused restarts its controller); a controller is confined to its
   robots and everything its policies start ends with it (:mod:`match.confinement`); the processes
   of one step work in
   parallel, each asked as soon as its robots' observations are built (the runner offers each
@@ -57,6 +58,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from match.answers import Answer, AnswerReader, AnswerRefused
 from match.confinement import children, confine_controller, end_orphans, end_session, guard_simulator
 from match.errors import InvalidReportError, MatchConfigError
 from match.protocol.actions import Action, parse_action
@@ -386,6 +388,7 @@ class _Controller:
         self._context = context
         self.process = None
         self.conn: Connection | None = None
+        self.reader: AnswerReader | None = None  # of the current process's answers
         self.ready = False  # reset answered: it can be asked
         self.busy = False  # asked, not answered
         self.asked_at = 0.0
@@ -410,6 +413,7 @@ class _Controller:
         finally:
             child.close()
         self.process, self.conn, self.ready, self.busy = process, parent, False, False
+        self.reader = AnswerReader(parent)
         self.images = SharedImages(len(self.agents))
         try:
             self.images.hand_over(parent, process.pid)
@@ -436,27 +440,26 @@ class _Controller:
         return used is not None and used - self.asked_cpu_s < budget_s
 
     def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
-        """Read one message (an answer, a late answer, a reset's answer) or the process's death."""
-        assert self.conn is not None
+        """Read one message (an answer, a late answer, a reset's answer) or the process's death. An answer is
+        read as its bytes arrive, bounded in size and kind (:class:`~match.answers.AnswerReader`): one refused
+        stops the controller and restarts it."""
+        assert self.reader is not None
         try:
-            message = self.conn.recv()
+            answer = self.reader.read()
         except (EOFError, OSError):
             return self.restart(f"ControllerDied: controller process ended (exit code {self._exit_code()})")
-        except Exception as error:  # an answer that cannot be unpickled
-            return self.restart(f"ControllerDied: unreadable answer ({_describe(error)})")
-        try:
-            return self._handle(message, estimates, reports, budget_s)
-        except (TypeError, ValueError, IndexError, KeyError, AttributeError) as error:
-            return self.restart(f"ControllerDied: malformed answer ({_describe(error)})")
+        except AnswerRefused as error:
+            return self.restart(f"ControllerRefused: {error}")
+        return [] if answer is None else self._handle(answer, estimates, reports, budget_s)
 
-    def _handle(self, message: tuple, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
-        kind = message[0]
-        faults = [PolicyFault(str(a), str(error), where) for a, error, where in message[-1] if a in self.agents]
-        if kind == "reset":
+    def _handle(self, answer: Answer, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
+        faults = [PolicyFault(a, error, where) for a, error, where in answer.faults if a in self.agents]
+        if answer.kind == "reset":
             self.ready = True
-            self._update_reports(message[1], message[2], estimates, reports)
-        elif kind == "act":
-            _, sequence, actions, new_estimates, new_reports, _ = message
+            self._update_reports(answer.estimates, answer.reports, estimates, reports)
+        else:
+            sequence, actions = answer.sequence, answer.actions
+            new_estimates, new_reports = answer.estimates, answer.reports
             self.busy = False
             took_s = time.perf_counter() - self.asked_at
             self._on_probation_answer(took_s <= budget_s)
@@ -474,8 +477,6 @@ class _Controller:
                 if self.probation and took_s > budget_s:
                     faults = [PolicyFault(a, f"ControllerTimeout: answered after {took_s:.2f} s, over the step "
                                              f"budget of {budget_s:g} s") for a in self.agents]
-        else:
-            raise ValueError(f"unknown message kind {kind!r}")
         return faults
 
     def _on_probation_answer(self, within_budget: bool) -> None:
@@ -544,6 +545,7 @@ class _Controller:
             self.images.close()
             self.images = None
         self.process, self.conn, self.ready, self.busy, self.answer = None, None, False, False, None
+        self.reader = None
         self.probation, self.answers_in_budget = True, 0  # a restarted controller starts on probation
 
     def _send(self, message: tuple) -> list[PolicyFault]:

@@ -328,3 +328,66 @@ def spinner_builder(**options) -> Spinner:
 def unmarked_builder() -> Spinner:
     """The same function unmarked: callable, but not taken as a policy."""
     return Spinner()
+
+
+def _controller_pipes() -> list:
+    """The open ends of pipes in this process (a controller's, to the simulator): what a hostile policy finds."""
+    import gc
+    from multiprocessing.connection import Connection
+
+    return [o for o in gc.get_objects() if isinstance(o, Connection) and not o.closed]
+
+
+class _WritesToItsPipe(Spinner):
+    """Writes to the simulator itself, through its controller's pipe, in place of its answers (:meth:`forge`)."""
+
+    def act(self, observation: dict) -> dict:
+        for conn in _controller_pipes():
+            self.forge(conn)
+        return super().act(observation)
+
+    def forge(self, conn) -> None:
+        raise NotImplementedError
+
+
+class FloodsItsPipe(_WritesToItsPipe):
+    """Sends a 200 MiB message (it blocks there: the simulator reads none of it)."""
+
+    def forge(self, conn) -> None:
+        conn.send_bytes(bytes(200 << 20))
+
+
+CODE_RAN = "robotstadium-answer-code-ran"  # the directory a forged answer's code would make (in the temp dir)
+
+
+class RunsCodeWhenRead:
+    """Unpickled, makes the directory :data:`CODE_RAN`."""
+
+    def __reduce__(self):
+        import tempfile
+
+        return os.mkdir, (os.path.join(tempfile.gettempdir(), CODE_RAN),)
+
+
+class SendsCode(_WritesToItsPipe):
+    """Sends an answer whose unpickling would run code of its choosing (make the directory :data:`CODE_RAN`)."""
+
+    def forge(self, conn) -> None:
+        conn.send(("act", 1, {self.agent_id: RunsCodeWhenRead()}, {}, {}, []))
+
+
+class SendsPartOfAnAnswer(_WritesToItsPipe):
+    """Sends the first bytes of a message of 1,000 and stops there (sleeps)."""
+
+    def forge(self, conn) -> None:
+        import struct
+
+        os.write(conn.fileno(), struct.pack("!i", 1000) + b"\x80\x05" * 5)
+        time.sleep(3600)
+
+
+class SendsHugePackets(Spinner):
+    """Returns an action with a 200 MiB radio packet in every act."""
+
+    def act(self, observation: dict) -> dict:
+        return {"motion": "stand", "radio": bytes(200 << 20)}
