@@ -265,7 +265,10 @@ LEFT_BEHIND = "9876.54321"  # how long the processes of LeavesChildren sleep: th
 class LeavesChildren(Spinner):
     """Starts processes that would outlive its controller: a child in its session, one in a session of its
     own, a forked copy of itself, and a daemon (forked twice, in a new session); each sleeps
-    :data:`LEFT_BEHIND` seconds."""
+    :data:`LEFT_BEHIND` seconds. Stands."""
+
+    def act(self, observation: dict) -> dict:
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
 
     def reset(self, agent_id: str, seed: int) -> None:
         import subprocess
@@ -344,7 +347,7 @@ class _WritesToItsPipe(Spinner):
     def act(self, observation: dict) -> dict:
         for conn in _controller_pipes():
             self.forge(conn)
-        return super().act(observation)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
 
     def forge(self, conn) -> None:
         raise NotImplementedError
@@ -391,3 +394,25 @@ class SendsHugePackets(Spinner):
 
     def act(self, observation: dict) -> dict:
         return {"motion": "stand", "radio": bytes(200 << 20)}
+
+
+class KillsItself(Spinner):
+    """Kills its own process (SIGKILL) on every 10th act; stands otherwise."""
+
+    def act(self, observation: dict) -> dict:
+        import signal
+
+        self.steps += 1
+        if self.steps % 10 == 0:
+            os.kill(os.getpid(), signal.SIGKILL)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
+
+
+class SpinsInC(Spinner):
+    """Spends every act in a regular expression that backtracks for ever (a loop in C, the processor busy)."""
+
+    def act(self, observation: dict) -> dict:
+        import re
+
+        re.match(r"(a|aa)*b", "a" * 60)
+        return make_action(Motion.STAND, camera=CameraChoice.OFF)
