@@ -286,6 +286,7 @@ class _FakeSummary:
     sim_seconds = 136.0
     wall_seconds = 1.0
     real_time_factor = 136.0
+    played_by = {"policies": {"home_0": {"policy": "team"}, "away_0": {"policy": "scripted"}}}
 
 
 @pytest.fixture
@@ -305,6 +306,7 @@ def test_match_writes_the_page_and_figures(fake_match, tmp_path: Path, capsys) -
     out = tmp_path / "m"
     assert cli.main(["match", "--out", str(out), "--half-seconds", "10", "--no-progress"]) == 0
     printed = capsys.readouterr().out.splitlines()
+    assert printed[0].startswith("team vs scripted: home 1 - 1 away; 136 s simulated")  # the teams by their policies
     assert printed[-3:] == [str(out / "replay.html"), str(out / "traces.png"), str(out / "localization.png")]
     assert _embedded((out / "replay.html").read_text())["match"]["half_seconds"] == 10.0
 

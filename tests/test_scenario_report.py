@@ -15,7 +15,7 @@ from scenarios.localization.figures import plot_errors, plot_traces
 from scenarios.localization.samples import LocalizationSample
 from scenarios.localization.spec import RobotEntry, ScenarioSpec, ThesisReference
 from scenarios.localization.statistics import ScenarioReport, method_statistics
-from scenarios.localization.tables import RESULT_COLUMNS, table_markdown, write_results_csv
+from scenarios.localization.tables import RESULT_COLUMNS, played_by, table_markdown, write_results_csv
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 THESIS_1 = ThesisReference(12.39, 2.83, 3.53, 2.86)
@@ -202,6 +202,7 @@ def test_scenario_table_md(tmp_path: Path) -> None:
     write_scenario_report(tmp_path, report())
     text = (tmp_path / "table.md").read_text(encoding="utf-8")
     assert text.splitlines()[0] == "# scenario 1"
+    assert f"- 1: {played_by(report())}" in text and "scan_localize (home_1 measured)" in text  # who played
     assert "seed: 0" in text and "wall time" in text and "12.4" in text
 
 

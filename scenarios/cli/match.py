@@ -98,8 +98,11 @@ def run(args: argparse.Namespace) -> int:
         else:
             print("robotstadium match: interrupted before the match began; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED
+    from scenarios.replay.data import teams_by_policy
+
     score = summary.score
-    result = f"home {score['home']} - {score['away']} away"
+    teams = teams_by_policy({"played_by": summary.played_by})  # "team vs scripted"
+    result = f"{teams + ': ' if teams else ''}home {score['home']} - {score['away']} away"
     if summary.shootout:
         result += f" (shoot-out {summary.shootout['home']}-{summary.shootout['away']})"
     print(f"{result}; {summary.sim_seconds:.0f} s simulated in {summary.wall_seconds:.0f} s "

@@ -159,13 +159,23 @@ def _playing_table(reports: Sequence[ScenarioReport]) -> list[str]:
     return lines
 
 
+def played_by(report: ScenarioReport) -> str:
+    """Who played a scenario: each policy and its robots, measured ones marked, e.g.
+    ``scan_localize (home_0 measured), stand (away_0, away_1)``."""
+    robots: dict[str, list[str]] = {}
+    for robot in report.spec.robots:
+        robots.setdefault(robot.policy, []).append(robot.id + (" measured" if robot.measured else ""))
+    return ", ".join(f"{policy} ({', '.join(ids)})" for policy, ids in robots.items())
+
+
 def table_markdown(reports: Sequence[ScenarioReport]) -> str:
     """Tables 6.1 (position, cm) and 6.2 (orientation, degrees) of ``reports``, Markdown, one decimal;
-    then, when a scenario was sampled while playing, its table of play."""
+    then, when a scenario was sampled while playing, its table of play; then who played each scenario."""
     lines = _table(reports, POSITION) + [""] + _table(reports, ORIENTATION)
     playing = [r for r in reports if r.spec.periodic]
     if playing:
         lines += [""] + _playing_table(playing)
+    lines += ["", "**Played by**:", ""] + [f"- {report.key}: {played_by(report)}" for report in reports]
     return "\n".join(lines) + "\n"
 
 
