@@ -11,7 +11,6 @@ runs' figures side by side (``robotstadium bench --compare``).
 from __future__ import annotations
 
 import contextlib
-import json
 import logging
 import math
 import multiprocessing
@@ -30,9 +29,8 @@ import numpy as np
 import pybullet as pb
 
 from agents.vision.head_scan import SCAN_PITCH_RAD
-from scenarios.common.batch import describe_error
 from scenarios.common.io import write_json
-from scenarios.common.untrusted import SmallFileError, read_small_file
+from scenarios.common.untrusted import SmallFileError, load_json, read_small_file
 from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
@@ -840,14 +838,10 @@ def read_bench_file(path: Path) -> dict:
     expected = "expected a bench.json of robotstadium bench, a JSON object with figures such as render_ms_median"
     path = Path(path)
     name = _shown(str(path))
-    try:
-        raw = read_small_file(path, MAX_BENCH_FILE_BYTES)
+    try:  # not a regular file, too big, nested too deep, not UTF-8, not JSON
+        results = load_json(read_small_file(path, MAX_BENCH_FILE_BYTES))
     except SmallFileError as error:
         raise BenchFileError(f"{name}: {error.reason}; {expected}") from None
-    try:
-        results = json.loads(raw.decode("utf-8"))
-    except (ValueError, RecursionError) as error:  # not UTF-8, not JSON, nested too deep
-        raise BenchFileError(f"{name}: {describe_error(error)[:200]}; {expected}") from None
     if not isinstance(results, dict):
         raise BenchFileError(f"{name}: {_JSON_NAMES.get(type(results), 'a JSON value')}, not an object; {expected}")
     if not any(worse_when(key) is not None and _number(value) is not None for key, value in results.items()):
