@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -292,6 +294,33 @@ def test_not_json_is_refused(tmp_path: Path) -> None:
     with pytest.raises(ColorTableError, match="not valid JSON") as error:
         load_thresholds(path)
     assert str(path) in str(error.value)
+
+
+HOSTILE_THRESHOLDS = {
+    "nested deep": "[" * 100_000 + "]" * 100_000,
+    "a number of 5,000 digits": '{"classes": {"green": {"low": [1, 2, ' + "9" * 5000 + '], "high": [1, 2, 3]}}}',
+    "ends not lists": '{"classes": {"green": {"low": 5, "high": "abc"}}}',
+    "over a megabyte": '{"source": "' + "a" * (1 << 20) + '", "classes": {}}',
+    "not UTF-8": b"\xff\xfe{}",
+    "a link to /dev/zero": Path("/dev/zero"),
+    "a pipe": None,
+}
+
+
+@pytest.mark.parametrize("content", list(HOSTILE_THRESHOLDS.values()), ids=list(HOSTILE_THRESHOLDS))
+def test_a_hostile_thresholds_file_is_refused_at_once_naming_it(content, tmp_path: Path) -> None:
+    path = tmp_path / "hostile.json"
+    if content is None:
+        os.mkfifo(path)
+    elif isinstance(content, Path):
+        path.symlink_to(content)
+    else:
+        path.write_bytes(content if isinstance(content, bytes) else content.encode())
+    started = time.perf_counter()
+    with pytest.raises(ColorTableError) as error:
+        load_thresholds(path)
+    assert time.perf_counter() - started < 1.0
+    assert str(path) in str(error.value) and len(str(error.value)) < 400
 
 
 def test_missing_file_is_refused(tmp_path: Path) -> None:

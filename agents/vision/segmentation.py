@@ -29,6 +29,7 @@ LOG = logging.getLogger(__name__)
 
 LEVELS = 256 >> LEVEL_SHIFT
 DEFAULT_THRESHOLDS_RESOURCE = "color_thresholds.json"
+MAX_THRESHOLDS_BYTES = 1 << 20  # a threshold file is under a kilobyte
 
 
 @dataclass(frozen=True)
@@ -100,8 +101,10 @@ class ColorThresholds:
                 raise ColorTableError(
                     f"{origin}: unknown colour class {name!r}; expected one of {[c.name.lower() for c in ColorClass]}"
                 ) from None
-            if not isinstance(entry, dict) or set(entry) != {"low", "high"}:
-                raise ColorTableError(f"{origin}: class {name!r} needs exactly 'low' and 'high'; got {entry!r}")
+            if (not isinstance(entry, dict) or set(entry) != {"low", "high"}
+                    or not all(isinstance(entry[end], list) for end in ("low", "high"))):
+                raise ColorTableError(f"{origin}: class {name!r} needs exactly 'low' and 'high', each a list of three "
+                                      f"integers; got {_cut(repr(entry))}")
             boxes.append(ColorBox(color, tuple(entry["low"]), tuple(entry["high"])))
         return cls(tuple(boxes), str(data.get("source", "")))
 
@@ -115,16 +118,32 @@ def load_thresholds(path: Path | None = None) -> ColorThresholds:
         text = resources.files("agents.vision").joinpath("data", DEFAULT_THRESHOLDS_RESOURCE).read_text()
         origin = f"agents/vision/data/{DEFAULT_THRESHOLDS_RESOURCE}"
     else:
-        try:
-            text = Path(path).read_text()
-        except OSError as exc:
-            raise ColorTableError(f"cannot read colour thresholds {path}: {exc}") from exc
+        text = _read_thresholds_file(Path(path))
         origin = str(path)
     try:
         data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ColorTableError(f"{origin}: not valid JSON ({exc})") from exc
+    except (ValueError, RecursionError) as exc:  # not JSON, a number of thousands of digits, nested too deep
+        raise ColorTableError(f"{origin}: not valid JSON ({_cut(str(exc))})") from None
     return ColorThresholds.from_json(data, origin)
+
+
+def _read_thresholds_file(path: Path) -> str:
+    """The text of a threshold file: a regular file of at most :data:`MAX_THRESHOLDS_BYTES` (a link to a
+    device or a pipe is refused before it is opened)."""
+    try:
+        if not path.is_file():
+            raise ColorTableError(f"cannot read colour thresholds {path}: not an existing regular file")
+        with path.open("rb") as handle:
+            raw = handle.read(MAX_THRESHOLDS_BYTES + 1)
+        if len(raw) > MAX_THRESHOLDS_BYTES:
+            raise ColorTableError(f"cannot read colour thresholds {path}: more than {MAX_THRESHOLDS_BYTES} bytes")
+        return raw.decode("utf-8")
+    except (OSError, ValueError) as exc:  # ValueError: not UTF-8, a NUL byte in the name
+        raise ColorTableError(f"cannot read colour thresholds {path}: {_cut(str(exc))}") from None
+
+
+def _cut(text: str, chars: int = 200) -> str:
+    return text if len(text) <= chars else text[: chars - 3] + "..."
 
 
 class ColorTable:
