@@ -812,3 +812,26 @@ def test_a_step_with_a_200_mib_packet_is_refused_at_once_and_changes_nothing(twi
         assert error.agent == "home_1" and len(str(error)) < 400
         assert _state(env) == _state(twin)
     _assert_same_step(env.step(FOLLOW), twin.step(FOLLOW))
+
+
+@pytest.mark.render
+@settings(FUZZ, max_examples=30)
+@given(kind=st.sampled_from([kind for kind in PAYLOADS if kind != "agent keys"]),
+       size=st.integers(10, 23).map(lambda k: 2**k))
+def test_the_aec_env_refuses_any_payload_at_its_turn_at_once_and_goes_on(twins, kind, size) -> None:
+    """A payload at home_1's turn: refused in its message's time, to home_1, with the turn and the match as they
+    were; the turn then goes on as in the twin fed only the valid actions."""
+    env, twin = twins
+    aec = _aec(env)
+    aec.reset(seed=1)
+    twin.reset(seed=1)
+    aec.step(FOLLOW["home_0"])
+    _, actions = _payload(kind, size)
+    seconds, error = _refusal_seconds(aec.step, actions["home_1"], time.thread_time)
+    assert seconds < REFUSAL_S, (kind, size, seconds)
+    assert isinstance(error, InvalidActionError) and error.agent == "home_1" and len(str(error)) < 1200
+    assert aec.agent_selection == "home_1" and _state(env) == _state(twin)
+    aec.step(FOLLOW["home_1"])
+    aec.step(FOLLOW["away_0"])
+    twin.step(FOLLOW)
+    assert _state(env) == _state(twin)

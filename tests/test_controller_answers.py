@@ -12,6 +12,8 @@ import time
 from multiprocessing import Pipe
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from match.answers import MAX_ANSWER_BYTES, AnswerReader, AnswerRefused
 from match.protocol import AgentReport, make_action, parse_action
@@ -127,3 +129,20 @@ def test_damaged_or_empty_answers_are_refused(pipe, data) -> None:
     os.write(controller.fileno(), struct.pack("!i", len(data)) + data)
     with pytest.raises(AnswerRefused):
         reader.read()
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None)
+@given(data=st.one_of(st.binary(max_size=300),
+                      st.tuples(st.integers(0, len(pickle.dumps(GOOD)) - 1), st.binary(min_size=1, max_size=8)).map(
+                          lambda p: pickle.dumps(GOOD)[:p[0]] + p[1] + pickle.dumps(GOOD)[p[0] + len(p[1]):])))
+def test_any_bytes_give_an_answer_or_its_refusal_and_nothing_else(data: bytes) -> None:
+    """Random messages and valid answers with bytes overwritten: an Answer, or AnswerRefused; never another error."""
+    simulator, controller = Pipe()
+    with simulator, controller:
+        os.write(controller.fileno(), struct.pack("!i", len(data)) + data)
+        try:
+            answer = AnswerReader(simulator).read()
+        except AnswerRefused as error:
+            assert "\n" not in str(error) and len(str(error)) < 400
+        else:
+            assert answer is not None and answer.kind in ("reset", "act")
