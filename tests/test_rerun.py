@@ -80,8 +80,8 @@ def test_a_record_without_who_played_is_refused_with_one_line(tmp_path: Path) ->
 
 def test_a_tournament_match_is_played_again_from_its_directory(tmp_path: Path) -> None:
     done = _robotstadium(tmp_path, "tournament", "scripted", "stand", "--matches", "2", "--players", "1",
-                         "--half-seconds", "2", "--no-shootout", "--no-replay", "--no-progress", "--workers", "1",
-                         "--out", "t")
+                         "--half-seconds", "2", "--pauses", "0.2,0.4,0.2", "--no-shootout", "--no-replay",
+                         "--no-progress", "--workers", "1", "--out", "t")
     assert done.returncode == 0, done.stderr
     match = tmp_path / "t" / "matches" / "001"  # the second match: the policies at the other ends
     summary = json.loads((match / "summary.json").read_text())
