@@ -10,6 +10,7 @@ the ``playwright`` package (the ``browser`` extra) these tests are skipped, with
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from pathlib import Path
@@ -294,6 +295,32 @@ def test_a_real_match_plays_in_the_browser(browser, real_match: Path, tmp_path: 
         if target:
             Path(target).parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(shot, target)
+        assert opened.errors == []
+    finally:
+        opened.close()
+
+
+def test_forged_policy_names_and_settings_show_as_text_and_run_nothing(browser, tmp_path: Path) -> None:
+    """A summary whose policy names, command line and machine hold markup and script: the header and the settings
+    panel show that text as it is; no element of it is made and none of it runs."""
+    directory = synthetic_match(tmp_path / "forged", half_seconds=10.0, goals=())
+    summary_path = directory / "summary.json"
+    summary = json.loads(summary_path.read_text(encoding="utf-8"))
+    forged_policy = '<img src=x onerror="window.pwned = 1">'
+    forged_command = '</script><script>window.pwned = 2</script>'
+    summary["played_by"] = {"policies": {"home_0": {"policy": forged_policy}, "away_0": {"policy": "scripted"}},
+                            "controllers": {"in_process": True}}
+    summary["command_line"] = ["robotstadium", "match", forged_command]
+    summary["machine"] = {"cpu": "<b onmouseover=alert(3)>x</b>"}
+    summary_path.write_text(json.dumps(summary), encoding="utf-8")
+    opened = Page(browser, write_replay(directory)[0])
+    try:
+        assert f"{forged_policy} vs scripted" in opened.page.locator("#title").inner_text()
+        opened.page.locator("#settings-panel summary").click()
+        settings = opened.page.locator("#settings").inner_text()
+        assert forged_policy in settings and forged_command in settings and "<b onmouseover" in settings
+        assert opened.page.locator("#title img, #settings img, #settings b, #settings script").count() == 0
+        assert opened.js("typeof window.pwned") == "undefined"
         assert opened.errors == []
     finally:
         opened.close()
