@@ -17,6 +17,7 @@ from agents.policies import make_policy
 from match.controllers import ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
 from scenarios.matches.play import PRELOAD, Lineup, run_lineup_match
+from tests.user_policies import left_behind
 
 pytestmark = pytest.mark.render
 
@@ -184,25 +185,9 @@ def test_a_controller_maps_only_its_own_robots_images_and_the_simulator_holds_no
                 assert decision.estimates[agent] == (image.flat[0] / 10.0, int(image.sum()) % 1000 / 100.0, 120.0)
 
 
-def _left_behind() -> list[int]:
-    """The processes of LeavesChildren still running (found by their command line)."""
-    from tests.user_policies import LEFT_BEHIND
-
-    found = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/cmdline", "rb") as cmdline:
-                    if LEFT_BEHIND.encode() in cmdline.read():
-                        found.append(int(entry))
-            except OSError:
-                continue
-    return found
-
-
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")
 def test_no_process_a_policy_starts_outlives_its_match() -> None:
-    for pid in _left_behind():  # from an earlier run that failed
+    for pid in left_behind():  # from an earlier run that failed
         os.kill(pid, signal.SIGKILL)
     factories = {"home_0": functools.partial(make_policy, "tests.user_policies:LeavesChildren"),
                  "away_0": functools.partial(make_policy, "stand")}
@@ -210,11 +195,11 @@ def test_no_process_a_policy_starts_outlives_its_match() -> None:
         decision = controllers.start(dict.fromkeys(factories, 0))
         assert not decision.faults
         deadline = time.monotonic() + 5.0
-        while len(_left_behind()) < 4 and time.monotonic() < deadline:
+        while len(left_behind()) < 4 and time.monotonic() < deadline:
             time.sleep(0.05)
-        assert len(_left_behind()) == 4  # in its session, in a session of its own, forked, a daemon
+        assert len(left_behind()) == 4  # in its session, in a session of its own, forked, a daemon
         controllers.decide({agent: {} for agent in factories})
-    assert _left_behind() == []
+    assert left_behind() == []
 
 
 def test_a_keyboard_interrupt_raised_by_a_policy_costs_only_its_robot() -> None:

@@ -24,7 +24,7 @@ import pytest
 
 from match.controllers import ControllerLimits
 from scenarios.matches.play import Lineup, run_lineup_match
-from tests.user_policies import CODE_RAN, LEFT_BEHIND
+from tests.user_policies import CODE_RAN, left_behind
 
 pytestmark = [pytest.mark.render,
               pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")]
@@ -61,29 +61,25 @@ def _play(out: Path, attacker: str) -> tuple[dict, float]:
 def _policy_processes() -> list[int]:
     """Processes of a policy still running: below this process (the simulator) but outside its session (each
     controller leads one), or started by LeavesChildren wherever they went."""
-    own_session = os.getsid(0)
     parents: dict[int, int] = {}
-    left: list[int] = []
     for entry in filter(str.isdigit, os.listdir("/proc")):
         try:
             with open(f"/proc/{entry}/stat", "rb") as stat:
                 parents[int(entry)] = int(stat.read().rsplit(b")", 1)[1].split()[1])
-            with open(f"/proc/{entry}/cmdline", "rb") as cmdline:
-                if LEFT_BEHIND.encode() in cmdline.read():
-                    left.append(int(entry))
         except (OSError, ValueError, IndexError):
             continue
     below, frontier = set(), {os.getpid()}
     while frontier:
         frontier = {pid for pid, parent in parents.items() if parent in frontier} - below
         below |= frontier
+    left = set(left_behind())
     for pid in below:
         try:
-            if os.getsid(pid) != own_session:
-                left.append(pid)
+            if os.getsid(pid) != os.getsid(0):
+                left.add(pid)
         except OSError:  # ended meanwhile
             continue
-    return sorted(set(left))
+    return sorted(left)
 
 
 def _victims_frames(out: Path) -> np.ndarray:
