@@ -59,15 +59,17 @@ def _play(out: Path, attacker: str) -> tuple[dict, float]:
 
 
 def _policy_processes() -> list[int]:
-    """Processes of a policy still running: below this process (the simulator) but outside its session (each
+    """Processes of a policy still running (zombies have ended): below this process (the simulator) but outside its session (each
     controller leads one), or started by LeavesChildren wherever they went."""
     parents: dict[int, int] = {}
     for entry in filter(str.isdigit, os.listdir("/proc")):
         try:
             with open(f"/proc/{entry}/stat", "rb") as stat:
-                parents[int(entry)] = int(stat.read().rsplit(b")", 1)[1].split()[1])
+                state, parent = stat.read().rsplit(b")", 1)[1].split()[:2]
         except (OSError, ValueError, IndexError):
             continue
+        if state != b"Z":  # a zombie has ended (an earlier test's controller its parent has not waited for)
+            parents[int(entry)] = int(parent)
     below, frontier = set(), {os.getpid()}
     while frontier:
         frontier = {pid for pid, parent in parents.items() if parent in frontier} - below
@@ -80,6 +82,14 @@ def _policy_processes() -> list[int]:
         except OSError:  # ended meanwhile
             continue
     return sorted(left)
+
+
+def _command(pid: int) -> str:
+    try:
+        with open(f"/proc/{pid}/cmdline", "rb") as cmdline:
+            return f"{pid}: " + cmdline.read().replace(b"\0", b" ").decode(errors="replace")[:200]
+    except OSError:
+        return f"{pid}: ended"
 
 
 def _victims_frames(out: Path) -> np.ndarray:
@@ -111,5 +121,6 @@ def test_a_hostile_policy_costs_only_its_own_robot(tmp_path: Path, clean: tuple[
     assert np.isfinite(frames).all()  # the victims saw a frame and reported its checksum at every step
     assert np.array_equal(frames, _victims_frames(clean_out))  # what the other team saw is untouched
     assert wall < 1.5 * clean_wall + 10.0, (wall, clean_wall)
-    assert _policy_processes() == []
+    left = _policy_processes()
+    assert left == [], [_command(pid) for pid in left]
     assert not os.path.exists(RAN)  # nothing a controller sent ran in the simulator
