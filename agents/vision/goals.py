@@ -15,6 +15,15 @@ out metres too long), its width and height must fit its distance, and two posts 
 1.5 m apart; the width and the pair's gap reject the goal's thin back uprights, which stand
 0.5 m behind the posts, the width also its ground frame seen along its side from close by,
 and the height a piece of that frame seen between robots' legs.
+
+Ours too: a post's pixels are found with hysteresis. A blurred or noisy camera (the
+``robotstadium`` and ``nao`` camera profiles) mixes a post's edge columns with what lies behind
+it, and the thresholds label those mixtures white, so the post would come out too thin, or in
+broken runs. So a pixel labelled white whose colour lies in its goal colour's range widened by
+:data:`RIM_MARGIN_LEVELS` per channel (about half goal colour, half background) counts as a
+goal pixel for the post search (:class:`GoalRims`), and a post needs
+:data:`RIM_MIN_SEED_PIXELS` pixels of the goal class itself. Under a box blur the columns at
+least half goal colour span the post's true width, so the width and base checks hold.
 """
 
 from __future__ import annotations
@@ -29,6 +38,7 @@ from agents.vision.camera_models import CameraModel
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
 from agents.vision.percepts import LandmarkPercept, PostSide
+from agents.vision.segmentation import ColorThresholds
 from world.camera_model import NAO_CAMERA
 from world.field import FIELD, GoalColor, LandmarkId, LandmarkKind
 
@@ -54,7 +64,44 @@ BASE_ROWS = 3  # ours: the base column is the mean of the post's lowest rows (po
 GOAL_WIDTH_M = 2 * FIELD.goal_post_y  # 1.5 m between the post centres
 GOAL_WIDTH_TOLERANCE_M = 0.4  # ours: two posts farther from 1.5 m apart are not one goal's pair
 
+RIM_MARGIN_LEVELS = 40  # ours: a post's edge pixel may lie this far (per channel, 8-bit) outside its colour's range
+RIM_MIN_SEED_PIXELS = 3  # ours: a post holds at least this many pixels of the goal class itself
+RIM_REACH_PX = 8  # ours: edge pixels are looked for this far beside the goal-class pixels (a blur's half length)
+
 GOAL_CLASSES = {GoalColor.BLUE: ColorClass.BLUE, GoalColor.YELLOW: ColorClass.YELLOW}
+
+
+@dataclass(frozen=True, eq=False)
+class GoalRims:
+    """The goal colours' RGB ranges widened by ``margin`` levels per channel (goal -> (low, high), int16):
+    the colours of a post's blurred or noisy edge pixels, which the thresholds label white."""
+
+    ranges: dict[GoalColor, tuple[np.ndarray, np.ndarray]]
+
+    @classmethod
+    def from_thresholds(cls, thresholds: ColorThresholds, margin: int = RIM_MARGIN_LEVELS) -> GoalRims:
+        ranges = {}
+        for goal, color in GOAL_CLASSES.items():
+            box = thresholds.box(color)
+            if box is not None:
+                ranges[goal] = (np.array(box.low, np.int16) - margin, np.array(box.high, np.int16) + margin)
+        return cls(ranges)
+
+    def goal_pixels(self, labels: np.ndarray, image: np.ndarray, goal: GoalColor) -> np.ndarray:
+        """The post search's mask (H, W) of ``goal``: its class's pixels and, within :data:`RIM_REACH_PX`
+        columns of their extent, the pixels labelled white whose colour (``image``, RGB uint8) lies in its
+        widened range."""
+        mask = labels == int(GOAL_CLASSES[goal])
+        if goal not in self.ranges or not mask.any():
+            return mask
+        rows, columns = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+        top, bottom = int(rows[0]), int(rows[-1]) + 1
+        left, right = max(0, int(columns[0]) - RIM_REACH_PX), int(columns[-1]) + 1 + RIM_REACH_PX
+        low, high = self.ranges[goal]
+        window = image[top:bottom, left:right]
+        inside = ((window >= low) & (window <= high)).all(axis=-1)
+        mask[top:bottom, left:right] |= inside & (labels[top:bottom, left:right] == int(ColorClass.WHITE))
+        return mask
 
 
 @dataclass(frozen=True)
@@ -106,9 +153,12 @@ def longest_vertical_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return run.max(axis=0), run.argmax(axis=0)
 
 
-def find_posts(labels: np.ndarray, goal: GoalColor) -> list[PostBlob]:
-    """Post candidates of one goal colour, left to right, before any check."""
-    mask = labels == int(GOAL_CLASSES[goal])
+def find_posts(labels: np.ndarray, goal: GoalColor, goal_pixels: np.ndarray | None = None) -> list[PostBlob]:
+    """Post candidates of one goal colour, left to right, before any check: from ``goal_pixels``
+    (:meth:`GoalRims.goal_pixels`; default the goal class's pixels), each holding at least
+    :data:`RIM_MIN_SEED_PIXELS` pixels of the goal class."""
+    seeds = labels == int(GOAL_CLASSES[goal])
+    mask = seeds if goal_pixels is None else goal_pixels
     pixels = np.flatnonzero(mask)
     if pixels.size == 0:
         return []
@@ -131,6 +181,8 @@ def find_posts(labels: np.ndarray, goal: GoalColor) -> list[PostBlob]:
         group_length = length[group]
         tops = bottom[group] - group_length + 1
         lowest = int(bottom[group].max())
+        if np.count_nonzero(seeds[int(tops.min()) : lowest + 1, first : last + 1]) < RIM_MIN_SEED_PIXELS:
+            continue  # edge-coloured pixels only: no post of this colour
         # The base column: the mean column of the post's pixels in its lowest rows.
         base = mask[max(0, lowest - BASE_ROWS + 1) : lowest + 1, first : last + 1]
         base_columns = (np.flatnonzero(base) % base.shape[1] + first).tolist()
@@ -209,15 +261,17 @@ def _reject(post: PostBlob, reason: str) -> PostBlob:
 
 
 def detect_goals(
-    labels: np.ndarray, frame: CameraFrame, model: CameraModel
+    labels: np.ndarray, frame: CameraFrame, model: CameraModel, rims: GoalRims | None = None
 ) -> tuple[tuple[LandmarkPercept, ...], GoalTrace]:
-    """Goal posts and goal centres in a segmented frame."""
+    """Goal posts and goal centres in a segmented frame; with ``rims``, posts' edge pixels read from
+    ``frame.image`` (:class:`GoalRims`)."""
     percepts: list[LandmarkPercept] = []
     trace: list[PostBlob] = []
     width = labels.shape[1]
     focal = NAO_CAMERA.focal_px
     radius = FIELD.goal_post_radius
-    posts = [post for goal in GoalColor for post in find_posts(labels, goal)]
+    posts = [post for goal in GoalColor
+             for post in find_posts(labels, goal, None if rims is None else rims.goal_pixels(labels, frame.image, goal))]
     if not posts:
         return (), GoalTrace()
     ground = model.locate(frame, np.array([p.base_u for p in posts]), np.array([p.base_v for p in posts]))

@@ -14,7 +14,7 @@ import numpy as np
 from agents.vision.border import FieldBorder, find_border
 from agents.vision.camera_models import DEFAULT_CAMERA_MODEL, CameraModel, camera_model
 from agents.vision.frame import CameraFrame
-from agents.vision.goals import GoalTrace, detect_goals
+from agents.vision.goals import GoalRims, GoalTrace, detect_goals
 from agents.vision.lines import LineTrace, detect_line_landmarks
 from agents.vision.percepts import LandmarkPercept
 from agents.vision.segmentation import ColorTable, ColorThresholds, load_thresholds
@@ -39,6 +39,7 @@ class VisionPipeline:
     def __init__(self, camera_model_name: str = DEFAULT_CAMERA_MODEL, thresholds: ColorThresholds | None = None):
         self.model: CameraModel = camera_model(camera_model_name)
         self.table = ColorTable(thresholds or load_thresholds())
+        self.rims = GoalRims.from_thresholds(self.table.thresholds)
         _ = self.table.table  # compile the lookup table now, not on the first frame
 
     def process(self, frame: CameraFrame) -> FrameResult:
@@ -50,6 +51,6 @@ class VisionPipeline:
         if not border.found:
             LOG.debug("no field border: recognition stops early")
             return FrameResult((), segmented, border)
-        goal_percepts, goals = detect_goals(segmented, frame, self.model)
+        goal_percepts, goals = detect_goals(segmented, frame, self.model, self.rims)
         line_percepts, lines = detect_line_landmarks(segmented, border, frame, self.model)
         return FrameResult(goal_percepts + line_percepts, segmented, border, goals, lines)
