@@ -60,6 +60,25 @@ def test_a_tournament_writes_every_output(one_worker: Path) -> None:
 
 
 @pytest.mark.render
+def test_a_tournament_plays_every_match_with_its_camera_profile(tmp_path: Path) -> None:
+    out = tmp_path / "profiled"
+    assert tournament(out, "--workers", "1", "--no-replay", "--matches", "1", "--camera-profile", "nao") == cli.EXIT_OK
+    match = json.loads((out / "matches" / "000" / "summary.json").read_text(encoding="utf-8"))
+    assert match["config"]["world"]["camera_profile"] == "nao"
+    assert json.loads((out / "summary.json").read_text(encoding="utf-8"))["settings"]["camera_profile"] == "nao"
+    assert "camera profile nao" in (out / "table.md").read_text(encoding="utf-8")
+    # another profile is another tournament: --resume refuses it, naming both
+    assert tournament(out, "--workers", "1", "--no-replay", "--matches", "1", "--resume") == cli.EXIT_USAGE
+
+
+def test_an_unknown_camera_profile_is_refused_before_anything_is_written(tmp_path: Path, capsys) -> None:
+    with pytest.raises(SystemExit) as refused:
+        tournament(tmp_path / "none", "--camera-profile", "fisheye")
+    assert refused.value.code == cli.EXIT_USAGE
+    assert "--camera-profile: expected one of clean, robotstadium, nao, got 'fisheye'" in capsys.readouterr().err and not (tmp_path / "none").exists()
+
+
+@pytest.mark.render
 def test_every_match_has_its_replay_page_and_no_figures(one_worker: Path) -> None:
     for index in ("000", "001"):
         match = one_worker / "matches" / index

@@ -14,6 +14,7 @@ from scenarios.cli.arguments import (
     HALF_SECONDS_MAX,
     HALF_SECONDS_MIN,
     add_batch_arguments,
+    add_camera_profile,
     add_controller_arguments,
     add_no_progress,
     add_out_dir,
@@ -68,6 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     # testing: shorter INITIAL, READY and SET pauses, "I,R,S" seconds, each 0-60 (part of the settings)
     parser.add_argument("--pauses", type=_pauses, default=None, help=argparse.SUPPRESS)
     add_controller_arguments(parser)
+    add_camera_profile(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -75,6 +77,7 @@ def run(args: argparse.Namespace) -> int:
     from scenarios.tournament.report import table_markdown
     from scenarios.tournament.run import check_match_index, run_tournament
     from scenarios.tournament.settings import TournamentError, TournamentSettings
+    from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 
     for name in args.policies:  # as the match command names them (modules in the current directory too)
         try:
@@ -83,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
             raise TournamentError(f"POLICY: {error}") from None
     options = batch_options(args)
     settings = TournamentSettings(tuple(args.policies), args.matches, args.half_seconds, args.players, args.seed,
-                                  args.shootout, args.pauses, controller_limits(args))
+                                  args.shootout, args.pauses, controller_limits(args),
+                                  args.camera_profile or DEFAULT_CAMERA_PROFILE)
     plots_for = sorted({check_match_index(settings, index, "--plots-for") for index in args.plots_for})
     try:
         report = run_tournament(settings, args.out, options, page=write_replay if args.replay else None)

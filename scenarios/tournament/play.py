@@ -47,7 +47,8 @@ def play_match(task: MatchTask, tick: Callable[..., None] | None = None) -> Play
         out = Path(scratch)
         run_lineup_match(out, Lineup(task.home, task.away), home=settings.players, away=settings.players,
                          half_seconds=settings.half_seconds, seed=task.seed, shootout=settings.shootout,
-                         progress=False, referee=settings.referee(), controllers=settings.controllers)
+                         progress=False, referee=settings.referee(), controllers=settings.controllers,
+                         camera_profile=settings.camera_profile)
         files = {name: (out / name).read_bytes() for name in MATCH_FILES}
         wall_seconds = time.perf_counter() - started
         page_files, page_error = _write_page(task, out)

@@ -192,7 +192,8 @@ def table_markdown(report: TournamentReport) -> str:
         f"# Tournament: {', '.join(s.policies)}",
         "",
         f"{kind}, {s.matches} matches per pair ({played} played, {len(report.failed)} failed), {s.players} v "
-        f"{s.players}, {s.half_seconds:g} s halves, shoot-out {'on' if s.shootout else 'off'}, seed {s.seed}.",
+        f"{s.players}, {s.half_seconds:g} s halves, shoot-out {'on' if s.shootout else 'off'}, seed {s.seed}, "
+        f"camera profile {s.camera_profile}.",
         "",
         "## Verdicts",
         "",

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from match.controllers import ControllerLimits
+from world.camera_profiles import CAMERA_PROFILES, DEFAULT_CAMERA_PROFILE
 
 MAX_PLAYERS = 4
 PAUSE_NAMES = ("initial_seconds", "ready_seconds", "set_seconds")  # the referee's pauses before a kick-off
@@ -41,7 +42,8 @@ class TournamentSettings:
     tournament's. ``pauses``: the INITIAL, READY and SET seconds before each kick-off (None:
     the rules' 2, 15 and 3 s; shorter ones make quick test tournaments). ``controllers``: the
     limits of the policies' controller processes (None: in the match's process); they change
-    no result of policies that keep to them."""
+    no result of policies that keep to them. ``camera_profile``: every match's cameras' image
+    profile (:mod:`world.camera_profiles`)."""
 
     policies: tuple[str, ...]
     matches: int = 10
@@ -51,6 +53,7 @@ class TournamentSettings:
     shootout: bool = True
     pauses: tuple[float, float, float] | None = None
     controllers: ControllerLimits | None = ControllerLimits()
+    camera_profile: str = DEFAULT_CAMERA_PROFILE
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "policies", tuple(self.policies))
@@ -78,6 +81,8 @@ class TournamentSettings:
                 raise TournamentError(f"--pauses {self.pauses!r}: expected three numbers of seconds >= 0 "
                                       "(INITIAL, READY, SET)")
             object.__setattr__(self, "pauses", tuple(float(p) for p in pauses))
+        if not isinstance(self.camera_profile, str) or self.camera_profile not in CAMERA_PROFILES:
+            raise TournamentError(f"--camera-profile {self.camera_profile!r}: expected one of {sorted(CAMERA_PROFILES)}")
 
     @property
     def self_play(self) -> bool:
@@ -125,6 +130,7 @@ class TournamentSettings:
             "shootout": self.shootout,
             "pauses": list(self.pauses) if self.pauses is not None else None,
             "controllers": dataclasses.asdict(self.controllers) if self.controllers is not None else None,
+            "camera_profile": self.camera_profile,
         }
 
     def fingerprint(self) -> str:
