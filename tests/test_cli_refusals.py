@@ -80,6 +80,7 @@ TABLE = [
     (["tournament", "scripted", "stand", "--out", "out"], "--players", ("0", "5", *BAD_COUNTS)),
     (["tournament", "scripted", "stand", "--out", "out"], "--seed", BAD_SEEDS),
     (["tournament", "scripted", "stand", "--out", "out"], "--workers", ("0", "65", *BAD_COUNTS)),
+    (["tournament", "scripted", "stand", "--out", "out"], "--camera-profile", BAD_PROFILES),
     (["tournament", "scripted", "stand"], "--out", BAD_DIRS),
     (["tournament", "scripted", "stand", "--out", "out"], "--plots-for", ("-1", "10", "1e3", "")),
     (["tournament", "scripted", "stand", "--out", "out"], "--pauses", ("1,2", "0,0,61", "-1,0,0", "nan,0,0", "a,b,c")),
