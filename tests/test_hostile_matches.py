@@ -25,6 +25,7 @@ import pytest
 from match.controllers import ControllerLimits
 from scenarios.matches.play import Lineup, run_lineup_match
 from tests.user_policies import CODE_RAN, left_behind
+from world.process_memory import stat_fields
 
 pytestmark = [pytest.mark.render,
               pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")]
@@ -59,17 +60,13 @@ def _play(out: Path, attacker: str) -> tuple[dict, float]:
 
 
 def _policy_processes() -> list[int]:
-    """Processes of a policy still running (zombies have ended): below this process (the simulator) but outside its session (each
-    controller leads one), or started by LeavesChildren wherever they went."""
+    """Processes of a policy still running: below this process (the simulator) but outside its session
+    (each controller leads one), or started by LeavesChildren wherever they went. Zombies have ended."""
     parents: dict[int, int] = {}
     for entry in filter(str.isdigit, os.listdir("/proc")):
-        try:
-            with open(f"/proc/{entry}/stat", "rb") as stat:
-                state, parent = stat.read().rsplit(b")", 1)[1].split()[:2]
-        except (OSError, ValueError, IndexError):
-            continue
-        if state != b"Z":  # a zombie has ended (an earlier test's controller its parent has not waited for)
-            parents[int(entry)] = int(parent)
+        fields = stat_fields(int(entry))
+        if fields is not None and len(fields) > 1 and fields[0] != b"Z":  # Z: ended, not yet waited for
+            parents[int(entry)] = int(fields[1])
     below, frontier = set(), {os.getpid()}
     while frontier:
         frontier = {pid for pid, parent in parents.items() if parent in frontier} - below
