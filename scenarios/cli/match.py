@@ -6,6 +6,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from agents.policies import DEFAULT_POLICY
 from match.protocol.ids import MAX_PLAYERS_PER_TEAM
@@ -25,6 +26,9 @@ from scenarios.cli.arguments import (
     policy_override,
     robot_or_all,
 )
+
+if TYPE_CHECKING:
+    from match.runner import MatchSummary
 
 NAME = "match"
 HELP = "run a full match headless between policies chosen by name"
@@ -71,10 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from match.protocol.ids import roster
-    from match.runner import STATE_HASHES
-    from scenarios.matches.play import Lineup, run_lineup_match, video_robots
-    from scenarios.matches.video import video_name
+    from scenarios.matches.play import Lineup, run_lineup_match
     from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 
     robots = [robot for robot, _ in args.policy]
@@ -98,6 +99,21 @@ def run(args: argparse.Namespace) -> int:
         else:
             print("robotstadium match: interrupted before the match began; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED
+    try:
+        _report(args, summary)
+    except KeyboardInterrupt:  # the match is played and recorded: only the lines below or its page are missing
+        page = f" (robotstadium replay {args.out} writes its replay page)" if args.replay else ""
+        print(f"robotstadium match: interrupted after the match; the match is in {args.out}{page}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    return EXIT_OK
+
+
+def _report(args: argparse.Namespace, summary: MatchSummary) -> None:
+    """Print the result and the files written, and write the replay page unless ``--no-replay``."""
+    from match.protocol.ids import roster
+    from match.runner import STATE_HASHES
+    from scenarios.matches.play import video_robots
+    from scenarios.matches.video import video_name
     from scenarios.replay.data import teams_by_policy
 
     score = summary.score
@@ -116,11 +132,5 @@ def run(args: argparse.Namespace) -> int:
     if args.replay:
         from scenarios.replay import write_replay
 
-        try:
-            for path in write_replay(args.out, plots=True):
-                print(path)
-        except KeyboardInterrupt:
-            print(f"robotstadium match: interrupted while the replay page was written; the match is in {args.out} "
-                  f"(robotstadium replay {args.out} writes the page)", file=sys.stderr)
-            return EXIT_INTERRUPTED
-    return EXIT_OK
+        for path in write_replay(args.out, plots=True):
+            print(path)
