@@ -48,7 +48,8 @@ HEAD_POSES = [(0.0, -15.0, CameraPosition.TOP), (30.0, 29.0, CameraPosition.TOP)
 
 
 def _world(render: RenderConfig) -> World:
-    world = World([RobotSpec(rid, team) for rid, (team, _) in ROBOTS.items()], WorldConfig(render=render))
+    world = World([RobotSpec(rid, team) for rid, (team, _) in ROBOTS.items()],
+                  WorldConfig(render=render, camera_profile="clean"))
     for rid, (_, pose) in ROBOTS.items():
         world.place_robot(rid, pose)
     world.place_ball(-0.2, 0.1)

@@ -59,7 +59,7 @@ def _chroma(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def test_profiles_are_named_and_an_unknown_name_is_refused():
     assert set(CAMERA_PROFILES) == {"clean", "robotstadium", "nao"}
-    assert WorldConfig().camera_profile == "clean"
+    assert WorldConfig().camera_profile == "robotstadium"
     with pytest.raises(UnknownCameraProfileError, match=r"'fancy'.*clean, robotstadium, nao"):
         WorldConfig(camera_profile="fancy")
     with pytest.raises(UnknownCameraProfileError, match="None"):
@@ -281,6 +281,24 @@ def _frames_from_here(world: World) -> list[np.ndarray]:
 
 
 @pytest.mark.render
+def test_a_robots_frames_do_not_depend_on_another_robots(worlds):
+    """Robot ``b`` taking frames between ``a``'s (or none at all: a dead controller, a camera left off)
+    changes nothing in ``a``'s: each frame's draws come from the key, the robot and its frame number."""
+    world = worlds["nao"]
+    alone = _frames(world, 7, 4)
+    world.reset(7)
+    world.place_robot("a", Pose2D(-1.0, 0.3, 0.2))
+    world.step(2)
+    beside = []
+    for i in range(4):
+        world.set_head("a", 0.15 * i, 0.3)
+        world.step(1)
+        world.render_camera("b")
+        beside.append(dict(world.render_cameras(["b", "a"]))["a"])
+    assert [f.tobytes() for f in beside] == [f.tobytes() for f in alone]
+
+
+@pytest.mark.render
 @pytest.mark.slow
 def test_the_profile_does_not_change_the_physics():
     """The same seed and actions, with cameras on: the world's state digest is the same step by step
@@ -328,7 +346,7 @@ def test_scenarios_and_perception_take_a_profile_and_refuse_unknown_ones():
     from scenarios.perception.records import PerceptionConfig, PerceptionConfigError
 
     spec = load_scenario("1")
-    assert spec.camera_profile == "clean"
+    assert spec.camera_profile == "robotstadium"
     nao = with_overrides(spec, camera_profile="nao")
     assert nao.camera_profile == "nao" and nao.fingerprint() != spec.fingerprint()
     with pytest.raises(UnknownCameraProfileError, match="'fancy'"):

@@ -56,7 +56,7 @@ def _rgba_shaded(rgba, shade: float) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def fit_frames():
-    return render_truth_frames(16, seed=11)
+    return render_truth_frames(16, seed=11)  # the rendered colours (the calibration's default profile)
 
 
 @pytest.fixture(scope="module")
@@ -129,7 +129,7 @@ def test_cli_writes_thresholds_and_report(tmp_path: Path, capsys) -> None:
     printed = capsys.readouterr().out
     assert "magenta" in printed and "held-out" in printed
     thresholds = load_thresholds(out)
-    assert thresholds.source == "robotstadium calibrate-colors --frames 3 --seed 4"
+    assert thresholds.source == "robotstadium calibrate-colors --frames 3 --seed 4 --camera-profile clean"
     report = json.loads(report_path(out).read_text())
     assert report["frames"] == 3 and set(report["calibration"]) == set(TRUTH_NAMES.values())
 

@@ -272,7 +272,7 @@ def test_a_real_match_plays_in_the_browser(browser, real_match: Path, tmp_path: 
         assert "team vs team" in opened.page.locator("#title").inner_text()  # who played, from the summary
         opened.page.locator("#settings-panel summary").click()  # the settings, from the summary too
         settings = opened.page.locator("#settings").inner_text()
-        assert all(word in settings for word in ("home_0", "away_0", "team", "seed", "camera profile", "clean",
+        assert all(word in settings for word in ("home_0", "away_0", "team", "seed", "camera profile", "robotstadium",
                                                  "versions", "command"))
         opened.page.locator("#settings-panel summary").click()
         robots = len(opened.js("window.replay.data.robots.map(r => r.id)"))

@@ -262,7 +262,7 @@ def test_user_file_with_fixed_start(tmp_path):
     assert start.theta == pytest.approx(math.pi / 2)
     assert spec.robots[1] == RobotEntry("home_0", "stand", False, None)
     assert spec.run_samples() == (3, 2, 2)
-    assert spec.camera_profile == "clean"
+    assert spec.camera_profile == "robotstadium"  # the default
 
 
 def test_a_file_chooses_the_camera_profile_and_the_command_line_overrides_it(tmp_path):

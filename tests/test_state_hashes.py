@@ -5,7 +5,8 @@ The fixture was written by::
     robotstadium match --home scripted --away scripted --half-seconds 15 --seed 0 --no-shootout \\
         --no-replay --in-process --state-hashes --out DIR
 
-(DIR/state_hashes.txt). A change that alters what the simulator or the scripted policy does changes it too:
+(DIR/state_hashes.txt), with the default camera profile (``robotstadium``: the scripted players see
+through it, so its noise and blur are part of what is checked). A change that alters what the simulator or the scripted policy does changes it too:
 write it again with that command, and say why in the commit.
 """
 

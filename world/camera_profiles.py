@@ -6,7 +6,7 @@ exposure and colour cast that depend on where the camera looks, YUV422 chroma su
 frames. Profiles (:data:`CAMERA_PROFILES`):
 
 - ``clean``: the rendered frame as it is, byte for byte (no work at all).
-- ``robotstadium``: the thesis' simulator (thesis section 3: much less noise than the real camera, but
+- ``robotstadium`` (the default): the thesis' simulator (thesis section 3: much less noise than the real camera, but
   "the image suffers by a bit of distortion when the simulated robot moves"): faint noise and motion
   blur.
 - ``nao``: the Nao V3/V4 camera as SPL teams describe it: shot and read noise, YUV422, vignetting, an
@@ -22,6 +22,7 @@ from __future__ import annotations
 import copy
 import functools
 import math
+import zlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -140,8 +141,9 @@ reports and code releases:
 
 CAMERA_PROFILES: dict[str, CameraProfile] = {p.name: p for p in (CLEAN, ROBOTSTADIUM, NAO)}
 
-DEFAULT_CAMERA_PROFILE = "clean"
-"""The profile of a world, a match, a perception run or a scenario that names none."""
+DEFAULT_CAMERA_PROFILE = "robotstadium"
+"""The profile of a world, a match, a perception run or a scenario that names none: the camera of the
+thesis' simulator, so that every figure is measured on images as imperfect as the thesis had."""
 
 
 def camera_profile(name: object) -> CameraProfile:
@@ -282,25 +284,46 @@ class _Seen:
 
 @dataclass
 class CameraEffects:
-    """A world's camera profile at work: its own random stream and, per robot, the last frame delivered
-    and the camera pose it was taken from (for the image motion and lost frames).
+    """A world's camera profile at work: the key of its random draws and, per robot, the number of frames
+    drawn, the last frame delivered and the camera pose it was taken from (for the image motion and lost
+    frames).
 
-    Every frame of a profile other than ``clean`` draws two raw 64-bit numbers from ``rng``, the world's
-    camera stream, and nothing else does: the physics never depends on the profile.
+    The n-th frame of robot ``r`` draws its two raw 64-bit numbers from the key, ``r`` and ``n`` alone
+    (:meth:`frame_draws`), so what one robot's camera sees never depends on how many frames another robot
+    took (a robot whose controller died, a camera switched off). The key is the first draw of ``rng``, the
+    world's camera stream, and nothing else draws from it: the physics never depends on the profile.
     """
 
     profile: CameraProfile
     rng: np.random.Generator
+    _key: int = field(init=False, default=0)
+    _frames: dict[str, int] = field(default_factory=dict)
     _seen: dict[str, _Seen] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.reseed(self.rng)
+
+    def reseed(self, rng: np.random.Generator) -> None:
+        """Draw every later frame from ``rng``'s stream (a world reseeded); each robot starts again at frame 0."""
+        self.rng = rng
+        self._key = int(rng.bit_generator.random_raw())
+        self._frames.clear()
+
+    def frame_draws(self, robot_id: str, frame: int) -> tuple[int, int]:
+        """The two raw 64-bit draws of frame number ``frame`` (from 0) of robot ``robot_id``."""
+        entropy = [self._key, zlib.crc32(robot_id.encode("utf-8")), frame]
+        raw = np.random.SeedSequence(entropy).generate_state(2, np.uint64)
+        return int(raw[0]), int(raw[1])
 
     def apply(self, robot_id: str, image: np.ndarray, pose: CameraPose) -> np.ndarray:
         """The frame robot ``robot_id`` gets for ``image``, rendered from ``pose``."""
         if self.profile.clean:
             return image
         seen = self._seen.get(robot_id)
-        raw = self.rng.bit_generator.random_raw(2)
+        frame = self._frames.get(robot_id, 0)
+        self._frames[robot_id] = frame + 1
         effects = frame_effects(self.profile, image_velocity_pxps(seen.pose if seen else None, pose),
-                                pose.rotation, (int(raw[0]), int(raw[1])), image.shape[0])
+                                pose.rotation, self.frame_draws(robot_id, frame), image.shape[0])
         if effects.lost and seen is not None:
             out = seen.frame
         else:
@@ -315,11 +338,10 @@ class CameraEffects:
         else:
             self._seen.pop(robot_id, None)
 
-    def save(self) -> tuple[dict, dict]:
-        """The state to :meth:`restore`: the stream's state and the robots' last frames."""
-        return copy.deepcopy(self.rng.bit_generator.state), dict(self._seen)
+    def save(self) -> tuple[int, dict, dict]:
+        """The state to :meth:`restore`: the key, the robots' frame counts and their last frames."""
+        return self._key, dict(self._frames), dict(self._seen)
 
-    def restore(self, state: tuple[dict, dict]) -> None:
-        rng_state, seen = state
-        self.rng.bit_generator.state = copy.deepcopy(rng_state)
-        self._seen = dict(seen)
+    def restore(self, state: tuple[int, dict, dict]) -> None:
+        self._key, frames, seen = state
+        self._frames, self._seen = dict(frames), dict(seen)

@@ -213,7 +213,7 @@ class World:
         elif rng is not None:
             self.rng = np.random.default_rng(rng)
         if rng is not None:
-            self._camera.rng = self.rng.spawn(1)[0]  # a child stream: the physics' draws are not touched
+            self._camera.reseed(self.rng.spawn(1)[0])  # a child stream: the physics' draws are not touched
             self._draw_imu_bias()
 
     def _draw_imu_bias(self) -> None:

@@ -9,6 +9,7 @@ import agents.vision
 from scenarios.cli.arguments import EXIT_OK, add_camera_profile, add_seed, int_in, output_file
 from scenarios.cli.outputs import output_problem
 from scenarios.tools.color_calibration import (
+    CALIBRATION_PROFILE,
     DEFAULT_FRAMES,
     calibrate_colors,
     format_scores,
@@ -35,16 +36,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=output_file, default=str(default_out), metavar="PATH",
                         help="threshold file to write, refused before anything runs if it cannot be written "
                              "(default: the one shipped in agents/vision/data)")
-    add_camera_profile(parser)
+    add_camera_profile(parser, default_text=CALIBRATION_PROFILE)
 
 
 def run(args: argparse.Namespace) -> int:
     problem = output_problem(str(report_path(args.out)), directory=False)
     if problem is not None:  # the report beside the thresholds, refused before the frames are rendered
         raise ValueError(f"--out {args.out}: its report: {problem}")
-    from world.camera_profiles import DEFAULT_CAMERA_PROFILE
-
-    result = calibrate_colors(args.frames, args.seed, camera_profile=args.camera_profile or DEFAULT_CAMERA_PROFILE)
+    result = calibrate_colors(args.frames, args.seed, camera_profile=args.camera_profile or CALIBRATION_PROFILE)
     print(format_scores(result))
     print(f"{result.frames} + {result.holdout_frames} held-out frames in {result.seconds:.1f} s")
     for path in write_calibration(result, args.out):

@@ -40,13 +40,16 @@ from agents.vision.segmentation import LEVEL_SHIFT, ColorBox, ColorTable, ColorT
 from scenarios.common.io import write_json
 from world import rendering
 from world.camera_model import NAO_CAMERA, CameraPosition
-from world.camera_profiles import DEFAULT_CAMERA_PROFILE
 from world.config import RobotSpec, WorldConfig
 from world.field import GoalColor, Pose2D
 from world.ground import GroundRenderer
 from world.robot_model import Joint, TeamColor
 from world.textures import LINE_RGB, TEXEL_M, carpet_texture
 from world.world import World
+
+CALIBRATION_PROFILE = "clean"
+"""The camera profile calibrated on when none is named: the rendered colours, as the shipped thresholds
+were fitted (a team calibrates on its own camera with ``camera_profile``)."""
 
 log = logging.getLogger(__name__)
 
@@ -174,7 +177,7 @@ class TruthLabeller:
 # ---- sampling ---------------------------------------------------------------------------
 
 
-def calibration_world(seed: int = 0, camera_profile: str = DEFAULT_CAMERA_PROFILE) -> World:
+def calibration_world(seed: int = 0, camera_profile: str = CALIBRATION_PROFILE) -> World:
     """A world with :data:`ROBOTS_PER_TEAM` robots of each team, its cameras of ``camera_profile``."""
     roster = [RobotSpec(f"{team.value}_{i}", team) for team in TeamColor for i in range(ROBOTS_PER_TEAM)]
     return World(roster, WorldConfig(camera_profile=camera_profile), seed=seed)
@@ -239,7 +242,7 @@ def stage_frame(world: World, rng: np.random.Generator) -> str:
     return observer
 
 
-def render_truth_frames(frames: int, seed: int, camera_profile: str = DEFAULT_CAMERA_PROFILE) -> list[TruthFrame]:
+def render_truth_frames(frames: int, seed: int, camera_profile: str = CALIBRATION_PROFILE) -> list[TruthFrame]:
     """Render ``frames`` camera images at seeded random poses through ``camera_profile``, with the truth labels
     of the rendered image."""
     if not isinstance(frames, int) or frames < 1:
@@ -298,13 +301,13 @@ def evaluate(thresholds: ColorThresholds, frames: Sequence[TruthFrame]) -> tuple
     return tuple(scores)
 
 
-def command_source(frames: int, seed: int, camera_profile: str = DEFAULT_CAMERA_PROFILE) -> str:
-    command = f"robotstadium calibrate-colors --frames {frames} --seed {seed}"
-    return command if camera_profile == DEFAULT_CAMERA_PROFILE else f"{command} --camera-profile {camera_profile}"
+def command_source(frames: int, seed: int, camera_profile: str = CALIBRATION_PROFILE) -> str:
+    """The command that fits these thresholds again, naming the profile (the default may change)."""
+    return f"robotstadium calibrate-colors --frames {frames} --seed {seed} --camera-profile {camera_profile}"
 
 
 def calibrate_colors(frames: int, seed: int, holdout_frames: int | None = None,
-                     camera_profile: str = DEFAULT_CAMERA_PROFILE) -> CalibrationResult:
+                     camera_profile: str = CALIBRATION_PROFILE) -> CalibrationResult:
     """Render ``frames`` frames through ``camera_profile``, fit the thresholds, score them there and on
     held-out frames.
 
