@@ -6,9 +6,9 @@ exposure and colour cast that depend on where the camera looks, YUV422 chroma su
 frames. Profiles (:data:`CAMERA_PROFILES`):
 
 - ``clean``: the rendered frame as it is, byte for byte (no work at all).
-- ``robotstadium`` (the default): the thesis' simulator (thesis section 3: much less noise than the real camera, but
-  "the image suffers by a bit of distortion when the simulated robot moves"): faint noise and motion
-  blur.
+- ``robotstadium`` (the default): the thesis' simulator (thesis section 3: much less noise than the
+  real camera, but "the image suffers by a bit of distortion when the simulated robot moves"): faint
+  noise and motion blur.
 - ``nao``: the Nao V3/V4 camera as SPL teams describe it: shot and read noise, YUV422, vignetting, an
   exposure and colour cast that vary with the direction in the hall, motion blur, rolling shutter and
   an occasional lost frame.
@@ -19,7 +19,6 @@ camera pose; the world calls :meth:`CameraEffects.apply` for every frame it hand
 
 from __future__ import annotations
 
-import copy
 import functools
 import math
 import zlib
