@@ -3,12 +3,15 @@
 Loading the command line (the simulator, numpy, OpenCV, numba) takes about a second; a SIGTERM in
 that time would otherwise end the process by the default action, with no word. Here a SIGTERM
 is a Ctrl-C (``KeyboardInterrupt``) before anything is imported, and one that arrives before a
-command began ends with one line and exit 130: nothing was written yet. Once a command runs,
-:func:`scenarios.cli.main` handles both itself.
+command began ends with one line and exit 130: nothing was written yet. That exit skips the
+interpreter's clean-up (``os._exit``): a signal in the middle of importing a native library leaves
+it half initialised, and finalising it can abort the process (a double free) instead of exiting
+130. Once a command runs, :func:`scenarios.cli.main` handles both itself.
 """
 
 from __future__ import annotations
 
+import os
 import signal
 import sys
 
@@ -20,7 +23,8 @@ def _interrupt(signum: int, _frame: object) -> None:
 
 
 def main() -> int:
-    """Run ``robotstadium`` with the process's arguments; return its exit code."""
+    """Run ``robotstadium`` with the process's arguments; return its exit code (or end the process with
+    exit 130 when stopped before the command began)."""
     signal.signal(signal.SIGTERM, _interrupt)
     try:
         from scenarios.cli import main as run_command_line
@@ -28,4 +32,5 @@ def main() -> int:
         return run_command_line()
     except KeyboardInterrupt:
         print("robotstadium: stopped before the command began; nothing was written", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        sys.stderr.flush()
+        os._exit(EXIT_INTERRUPTED)  # no finalisers of half-imported native libraries
