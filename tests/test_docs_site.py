@@ -107,11 +107,17 @@ def test_a_page_opens_with_its_heading_and_no_console_error(page, path: str, hea
 
 
 def test_the_search_box_finds_the_tutorial(page) -> None:
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout  # the browser extra, there when page is
+
     page.goto(f"{page.base}/index.html")
     page.click("input.md-search__input")  # in the header at this width
     page.keyboard.type("SelfLocator")
-    first = page.locator(".md-search-result__item").first
-    first.wait_for(timeout=15_000)
+    # The list is redrawn after each key; wait for the results of the whole word.
+    results = page.locator(".md-search-result__list", has_text="Writing a policy")
+    try:
+        results.wait_for(timeout=15_000)
+    except PlaywrightTimeout:
+        pass  # the assertion below shows what was found instead
     found = page.inner_text(".md-search-result__list")
     assert "SelfLocator" in found and "Writing a policy" in found, found[:500]
     assert page.errors == []
