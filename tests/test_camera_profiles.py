@@ -354,3 +354,27 @@ def test_scenarios_and_perception_take_a_profile_and_refuse_unknown_ones():
     assert PerceptionConfig(1, camera_profile="nao").camera_profile == "nao"
     with pytest.raises(PerceptionConfigError, match="'fancy'"):
         PerceptionConfig(1, camera_profile="fancy")
+
+
+@pytest.mark.render
+def test_frames_taken_together_are_the_frames_taken_one_by_one(worlds):
+    """:meth:`World.render_cameras` draws every frame through the profile in one call: the same images as
+    :meth:`World.render_camera` robot after robot, also when a robot is named twice (its second frame
+    follows from its first)."""
+    world = worlds["nao"]
+
+    def play(take) -> list[bytes]:
+        world.reset(3)
+        world.place_robot("a", Pose2D(-1.0, 0.3, 0.2))
+        world.step(2)
+        out = []
+        for i in range(3):
+            world.set_head("a", 0.2 * i, 0.3)
+            world.set_head("b", -0.2 * i, 0.2)
+            world.step(1)
+            out += [image.tobytes() for image in take()]
+        return out
+
+    one_by_one = play(lambda: [world.render_camera(r) for r in ("a", "b", "a")])
+    together = play(lambda: [image for _, image in world.render_cameras(["a", "b", "a"])])
+    assert together == one_by_one

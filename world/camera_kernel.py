@@ -7,6 +7,9 @@ variates, at offsets hashed from the row and a 64-bit key drawn per frame from t
 stream, over the square root of 2: one key gives one image, the noise is Gaussian, and a row's noise
 repeats only if both offsets do (one chance in about a billion). Reading runs of a table vectorises;
 a draw per value would cost most of the frame's budget.
+
+The frames of several cameras go through in one call (:func:`apply_effects_many`), shared among
+numba's threads when the renderer's cameras are (:func:`world.raster.threads.parallel_cameras`).
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ from __future__ import annotations
 from statistics import NormalDist
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 BANK_SIZE = 2**15
 """Normal variates in the table (128 kB, cache resident)."""
@@ -160,3 +163,29 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
             for j in range(n):
                 x = row[j]
                 result[v, j] = _level(x + sigma_by_level[_level(x)] * noise[j])
+
+
+@njit(cache=True, error_model="numpy")
+def _apply_one(i, srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys, bank):
+    apply_effects(srcs[i], outs[i], blurs[i, 0], blurs[i, 1], taps[i], shears[i, 0], shears[i, 1], shade, gains[i],
+                  sigma_by_level, chroma_sigma, yuv422, keys[i], bank)
+
+
+@njit(cache=True, error_model="numpy")
+def apply_effects_serial(srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys,
+                         bank):
+    """:func:`apply_effects` of frame ``i`` of ``srcs`` (n, H, W, 3) into ``outs[i]`` for each ``i``, with
+    its own blur and shear (``blurs``, ``shears`` (n, 2) px and px per row), ``taps`` (n,), ``gains``
+    (n, 3) and ``keys`` (n,) uint64; the profile's ``shade``, ``sigma_by_level`` and ``chroma_sigma`` shared."""
+    for i in range(srcs.shape[0]):
+        _apply_one(i, srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys,
+                   bank)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def apply_effects_parallel(srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422,
+                           keys, bank):
+    """:func:`apply_effects_serial`, the frames shared among numba's threads (the same images)."""
+    for i in prange(srcs.shape[0]):
+        _apply_one(i, srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys,
+                   bank)

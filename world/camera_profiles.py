@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 import math
 import zlib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -259,16 +260,36 @@ def frame_effects(profile: CameraProfile, velocity_pxps: tuple[float, float], ro
 
 def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: FrameEffects) -> np.ndarray:
     """A new (H, W, 3) uint8 image: ``image`` through ``effects`` (lost frames are the caller's)."""
-    if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3 or image.shape[1] % 2:
-        raise ValueError(f"image of {image.dtype} {image.shape}; expected uint8 (H, W, 3) with W even")
-    from world.camera_kernel import NORMAL_BANK, apply_effects  # numba, loaded with the first frame
+    if not isinstance(image, np.ndarray) or image.ndim != 3:
+        raise ValueError(f"image of {getattr(image, 'dtype', type(image))} {getattr(image, 'shape', '')}; "
+                         "expected uint8 (H, W, 3) with W even")
+    return apply_frames_effects(profile, image[np.newaxis], [effects])[0]
 
-    shade = shading_map(profile, image.shape[0], image.shape[1])
-    out = np.empty_like(image)
-    apply_effects(np.ascontiguousarray(image), out, float(effects.blur_px[0]), float(effects.blur_px[1]),
-                  effects.taps, float(effects.shear_px_per_row[0]), float(effects.shear_px_per_row[1]), shade,
-                  effects.gains, noise_sigmas(profile), float(profile.chroma_noise), bool(profile.yuv422),
-                  np.uint64(effects.key), NORMAL_BANK)
+
+def apply_frames_effects(profile: CameraProfile, images: np.ndarray, effects: Sequence[FrameEffects]) -> np.ndarray:
+    """New images (n, H, W, 3) uint8: frame ``i`` of ``images`` through ``effects[i]`` (lost frames are the
+    caller's). Several frames go through in one compiled call, on numba's threads when the renderer's
+    cameras are drawn on them (the same images either way)."""
+    if (not isinstance(images, np.ndarray) or images.dtype != np.uint8 or images.ndim != 4 or images.shape[3] != 3
+            or images.shape[2] % 2):
+        raise ValueError(f"images of {getattr(images, 'dtype', type(images))} {getattr(images, 'shape', '')}; "
+                         "expected uint8 (n, H, W, 3) with W even")
+    if len(effects) != images.shape[0]:
+        raise ValueError(f"{len(effects)} frame effects for {images.shape[0]} images; expected one per image")
+    from world.camera_kernel import NORMAL_BANK, apply_effects_parallel, apply_effects_serial  # numba, loaded late
+    from world.raster.threads import parallel_cameras
+
+    height, width = images.shape[1], images.shape[2]
+    out = np.empty_like(images)
+    kernel = apply_effects_parallel if len(effects) > 1 and parallel_cameras() else apply_effects_serial
+    kernel(np.ascontiguousarray(images), out,
+           np.array([e.blur_px for e in effects], np.float64).reshape(-1, 2),
+           np.array([e.taps for e in effects], np.int64),
+           np.array([e.shear_px_per_row for e in effects], np.float64).reshape(-1, 2),
+           shading_map(profile, height, width),
+           np.array([e.gains for e in effects], np.float32).reshape(-1, 3),
+           noise_sigmas(profile), float(profile.chroma_noise), bool(profile.yuv422),
+           np.array([e.key for e in effects], np.uint64), NORMAL_BANK)
     return out
 
 
@@ -318,17 +339,30 @@ class CameraEffects:
         """The frame robot ``robot_id`` gets for ``image``, rendered from ``pose``."""
         if self.profile.clean:
             return image
-        seen = self._seen.get(robot_id)
-        frame = self._frames.get(robot_id, 0)
-        self._frames[robot_id] = frame + 1
-        effects = frame_effects(self.profile, image_velocity_pxps(seen.pose if seen else None, pose),
-                                pose.rotation, self.frame_draws(robot_id, frame), image.shape[0])
-        if effects.lost and seen is not None:
-            out = seen.frame
-        else:
-            out = apply_frame_effects(self.profile, image, effects)
-        self._seen[robot_id] = _Seen(pose, out)
-        return out.copy()
+        return self.apply_many([(robot_id, image, pose)])[0]
+
+    def apply_many(self, frames: Sequence[tuple[str, np.ndarray, CameraPose]]) -> list[np.ndarray]:
+        """The frames robots get for images ``(robot_id, image, pose)`` of one moment, in order: the same
+        as :meth:`apply` of each in turn, the images drawn through the profile in one call."""
+        if self.profile.clean or not frames:
+            return [image for _, image, _ in frames]
+        ids = [robot_id for robot_id, _, _ in frames]
+        if len(set(ids)) < len(ids):  # a robot's second frame follows from its first
+            return [self.apply_many([one])[0] for one in frames]
+        seen = [self._seen.get(robot_id) for robot_id in ids]
+        effects = []
+        for (robot_id, image, pose), before in zip(frames, seen):
+            frame = self._frames.get(robot_id, 0)
+            self._frames[robot_id] = frame + 1
+            effects.append(frame_effects(self.profile, image_velocity_pxps(before.pose if before else None, pose),
+                                         pose.rotation, self.frame_draws(robot_id, frame), image.shape[0]))
+        drawn = apply_frames_effects(self.profile, np.stack([image for _, image, _ in frames]), effects)
+        delivered = []
+        for k, ((robot_id, _, pose), before, effect) in enumerate(zip(frames, seen, effects)):
+            out = before.frame if effect.lost and before is not None else drawn[k]
+            self._seen[robot_id] = _Seen(pose, out)
+            delivered.append(out.copy())
+        return delivered
 
     def forget(self, robot_id: str | None = None) -> None:
         """Drop the memory of one robot's camera (placed elsewhere), or of every robot's."""

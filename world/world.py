@@ -442,12 +442,16 @@ class World:
 
     def render_cameras(self, robot_ids: Sequence[str]) -> Iterator[tuple[str, np.ndarray]]:
         """Each robot's camera image (as :meth:`render_camera`), as ``(robot_id, image)`` pairs in
-        ``robot_ids`` order; the compiled renderer draws them all in one call."""
+        ``robot_ids`` order; the compiled renderer draws them all in one call, and the camera profile
+        takes them all in another."""
         ids = [self._check_robot(rid) for rid in robot_ids]
         if self._raster is not None:
             poses = [self.camera_pose(rid) for rid in ids]
-            for rid, image, pose in zip(ids, self._compiled_frames(poses)[0], poses):
-                yield rid, self._through_profile(rid, image, pose)
+            images = self._compiled_frames(poses)[0]
+            if not self._camera.profile.clean:
+                taken = [CameraPose(self.time_s, self._controllers[rid].camera, *pose) for rid, pose in zip(ids, poses)]
+                images = self._camera.apply_many(list(zip(ids, images, taken)))
+            yield from zip(ids, images)
             return
         for rid in ids:
             yield rid, self.render_camera(rid)

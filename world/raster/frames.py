@@ -116,32 +116,51 @@ def draw_bodies(view, projection, width, height, rows, models, inverse_models, v
 @njit(cache=True, error_model="numpy")
 def _merge(width, height, rows, projection, zbuffer, colour, label, hall_rgba, hall_min_depth, out, out_label):
     """The bodies where nearer than the hall, else the hall, in the buffer rows ``rows`` = ``(lo, hi)``;
-    rows flipped to top-to-bottom."""
+    rows flipped to top-to-bottom.
+
+    A pixel no body covers has the clear depth, which converts to ``clear_depth``: it shows the hall, or
+    the clear colour where the hall is not in view. Each row is written so first (a loop without
+    branches), then again from the first to the last pixel a body covers, each depth converted."""
     near = projection[2, 3] / (projection[2, 2] - F32(1.0))
     far = projection[2, 3] / (projection[2, 2] + F32(1.0))
-    clear = -far  # the depth of a pixel no body covers, converted once
-    clear_depth = F32((far * (near - clear)) / (2.0 * float(far) * float(near) + float(far * -clear)
-                                                - float(near * -clear)))
+    clear = -far
+    clear_depth = _depth_of(clear, near, far)
+    packed = np.empty(width, np.uint32)
     for y in range(rows[0], rows[1]):
-        row = height - 1 - y
+        # views of the row, indexed from 0 by the loops: the compiler sees no negative index and vectorises
+        source, target = y * width, (height - 1 - y) * width
+        z_row, colour_row, label_row = zbuffer[source:source + width], colour[source:source + width], label[source:source + width]
+        hall_row, threshold_row = hall_rgba[target:target + width], hall_min_depth[target:target + width]
+        rgb_row, out_label_row = out[height - 1 - y].reshape(-1), out_label[target:target + width]
+        first, last = width, -1
         for x in range(width):
-            source = x + y * width
-            target = x + row * width
-            if zbuffer[source] == clear:
-                depth = clear_depth
-            else:
-                z_c = -zbuffer[source]
-                depth = F32((far * (near + z_c)) / (2.0 * float(far) * float(near) + float(far * z_c)
-                                                    - float(near * z_c)))
-            if depth >= hall_min_depth[target]:
-                packed = hall_rgba[target]
-                out_label[target] = -1
-            else:
-                packed = colour[source]
-                out_label[target] = label[source]
-            out[row, x, 0] = packed & 0xFF
-            out[row, x, 1] = (packed >> 8) & 0xFF
-            out[row, x, 2] = (packed >> 16) & 0xFF
+            covered = z_row[x] != clear
+            first = min(first, x if covered else width)
+            last = max(last, x if covered else -1)
+        for x in range(width):
+            packed[x] = CLEAR if clear_depth < threshold_row[x] else hall_row[x]
+            out_label_row[x] = -1
+        for x in range(first, last + 1):
+            body = _depth_of(z_row[x], near, far) < threshold_row[x]
+            packed[x] = colour_row[x] if body else packed[x]
+            out_label_row[x] = label_row[x] if body else -1
+        for x in range(width):  # apart: byte stores would keep the loops above from vectorising
+            _put(rgb_row, x, packed[x])
+
+
+@njit(cache=True, inline="always")
+def _depth_of(z, near, far):
+    """pybullet's depth-buffer value (float32) of TinyRenderer's buffer value ``z``."""
+    z_c = -z
+    return F32((far * (near + z_c)) / (2.0 * float(far) * float(near) + float(far * z_c) - float(near * z_c)))
+
+
+@njit(cache=True, inline="always")
+def _put(flat, k, packed):
+    """Pixel ``k`` of the flat RGB image ``flat``: the first three bytes of the packed RGBA ``packed``."""
+    flat[3 * k] = np.uint8(packed & 0xFF)
+    flat[3 * k + 1] = np.uint8((packed >> 8) & 0xFF)
+    flat[3 * k + 2] = np.uint8((packed >> 16) & 0xFF)
 
 
 @njit(cache=True, error_model="numpy")
