@@ -65,11 +65,12 @@ def _outside_frustum(model_view, centre, radius, tan_x, tan_y, near, far):
 
 
 @njit(cache=True, error_model="numpy")
-def draw_bodies(view, projection, width, height, rows, models, inverse_models, vertices, normals, triangles,
+def draw_bodies(view, projection, width, height, rows, models, world_vertices, world_normals, vertices, triangles,
                 shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
                 light, ambient, diffuse, specular, zbuffer, colour, label):
     """Every shape's triangles into the buffers (h*w, rows from the bottom), as TinyRenderer draws them;
-    only the buffer rows ``rows`` = ``(lo, hi)`` are cleared and drawn."""
+    only the buffer rows ``rows`` = ``(lo, hi)`` are cleared and drawn. ``world_vertices`` and
+    ``world_normals``: the vertices in the world (:func:`shape_in_world`)."""
     near = projection[2, 3] / (projection[2, 2] - F32(1.0))
     far = projection[2, 3] / (projection[2, 2] + F32(1.0))
     lo, hi = rows[0] * width, rows[1] * width
@@ -82,35 +83,48 @@ def draw_bodies(view, projection, width, height, rows, models, inverse_models, v
     tan_x = (width / 2.0) / (height / 2.0) / float(projection[1, 1])
     tan_y = 1.0 / float(projection[1, 1])
     gl = np.empty((4, 3), np.float32)
-    world = np.empty((4, 3), np.float32)
     vertex_normals = np.empty((3, 3), np.float32)
     model_view = np.empty((4, 4), np.float32)
     pmv = np.empty((4, 4), np.float32)
     scratch = new_scratch(width)
     for s in range(shape_instance.shape[0]):
-        instance = shape_instance[s]
-        model = models[instance]
-        mat_mul(view, model, model_view)
+        mat_mul(view, models[shape_instance[s]], model_view)
         if _outside_frustum(model_view, shape_centre[s], shape_radius[s], tan_x, tan_y, float(near), float(far)):
             continue
         mat_mul(projection, model_view, pmv)
-        inverse = inverse_models[instance]
         for t in range(shape_first[s], shape_first[s] + shape_count[s]):
-            for j in range(3):
-                v = triangles[t, j]
-                transform_point(model, vertices[v, 0], vertices[v, 1], vertices[v, 2], F32(1.0), world, j)
-            ax, ay, az = float(world[0, 0]), float(world[1, 0]), float(world[2, 0])
-            ux, uy, uz = float(world[0, 1]) - ax, float(world[1, 1]) - ay, float(world[2, 1]) - az
-            vx, vy, vz = float(world[0, 2]) - ax, float(world[1, 2]) - ay, float(world[2, 2]) - az
+            a, b, c = triangles[t, 0], triangles[t, 1], triangles[t, 2]
+            w = world_vertices
+            ax, ay, az = float(w[0, a]), float(w[1, a]), float(w[2, a])
+            ux, uy, uz = float(w[0, b]) - ax, float(w[1, b]) - ay, float(w[2, b]) - az
+            vx, vy, vz = float(w[0, c]) - ax, float(w[1, c]) - ay, float(w[2, c]) - az
             nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
             if (ax - px) * nx + (ay - py) * ny + (az - pz) * nz >= 0.0:  # back face
                 continue
             for j in range(3):
                 v = triangles[t, j]
                 transform_point(pmv, vertices[v, 0], vertices[v, 1], vertices[v, 2], F32(1.0), gl, j)
-                transform_point3(inverse, normals[v, 0], normals[v, 1], normals[v, 2], vertex_normals, j)
+                for i in range(3):
+                    vertex_normals[i, j] = world_normals[i, v]
             draw_triangle(gl, viewport, zbuffer, colour, label, shape_label[s], width, height, rows, vertex_normals,
                           light, shape_rgb[s], ambient, diffuse, specular, near, far, scratch)
+
+
+@njit(cache=True, error_model="numpy")
+def shape_in_world(s, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first, shape_count,
+                   world_vertices, world_normals):
+    """Shape ``s``'s vertices in the world, the same for every camera: into ``world_vertices`` (4, v) float32
+    [homogeneous coordinate, vertex] the model matrix times the vertex, into ``world_normals`` (3, v) the
+    normal matrix (:func:`inverse_transposes`) times its normal. A shape's vertices are its own (the meshes
+    are concatenated), so shapes may be done on several threads at once."""
+    first, last = vertices.shape[0], -1
+    for t in range(shape_first[s], shape_first[s] + shape_count[s]):
+        for j in range(3):
+            first, last = min(first, triangles[t, j]), max(last, triangles[t, j])
+    model, inverse = models[shape_instance[s]], inverse_models[shape_instance[s]]
+    for v in range(first, last + 1):
+        transform_point(model, vertices[v, 0], vertices[v, 1], vertices[v, 2], F32(1.0), world_vertices, v)
+        transform_point3(inverse, normals[v, 0], normals[v, 1], normals[v, 2], world_normals, v)
 
 
 @njit(cache=True, error_model="numpy")
@@ -129,7 +143,8 @@ def _merge(width, height, rows, projection, zbuffer, colour, label, hall_rgba, h
     for y in range(rows[0], rows[1]):
         # views of the row, indexed from 0 by the loops: the compiler sees no negative index and vectorises
         source, target = y * width, (height - 1 - y) * width
-        z_row, colour_row, label_row = zbuffer[source:source + width], colour[source:source + width], label[source:source + width]
+        z_row, colour_row = zbuffer[source:source + width], colour[source:source + width]
+        label_row = label[source:source + width]
         hall_row, threshold_row = hall_rgba[target:target + width], hall_min_depth[target:target + width]
         rgb_row, out_label_row = out[height - 1 - y].reshape(-1), out_label[target:target + width]
         first, last = width, -1
@@ -166,8 +181,8 @@ def _put(flat, k, packed):
 @njit(cache=True, error_model="numpy")
 def _draw_band(c, band, bands, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views,
                projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i, banner_f,
-               palette, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first, shape_count,
-               shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse, specular):
+               palette, models, world_vertices, world_normals, vertices, triangles, shape_instance, shape_first,
+               shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient, diffuse, specular):
     """Band ``band`` of ``bands`` equal bands of rows of camera ``c``'s frame."""
     top, bottom = band * height // bands, (band + 1) * height // bands  # image rows, from the top
     if not halls_given:
@@ -178,7 +193,7 @@ def _draw_band(c, band, bands, out, out_labels, halls_rgba, halls_min_depth, hal
     zbuffer = np.empty(pixels, np.float32)
     colour = np.empty(pixels, np.uint32)
     label = np.empty(pixels, np.int32)
-    draw_bodies(views[c], projection, width, height, rows, models, inverse_models, vertices, normals, triangles,
+    draw_bodies(views[c], projection, width, height, rows, models, world_vertices, world_normals, vertices, triangles,
                 shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius,
                 light, ambient, diffuse, specular, zbuffer, colour, label)
     _merge(width, height, rows, projection, zbuffer, colour, label, halls_rgba[c], halls_min_depth[c], out[c],
@@ -203,10 +218,15 @@ def draw_frames(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotat
     int32, -1 where the hall shows), one camera after another. ``halls_*`` (n, h*w): each camera's hall,
     drawn here unless ``halls_given``."""
     inverse_models = inverse_transposes(models)
+    world_vertices = np.empty((4, vertices.shape[0]), np.float32)
+    world_normals = np.empty((3, vertices.shape[0]), np.float32)
+    for s in range(shape_instance.shape[0]):
+        shape_in_world(s, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
+                       shape_count, world_vertices, world_normals)
     for c in range(out.shape[0]):
         _draw_band(c, 0, 1, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions,
                    views, projection, width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i,
-                   banner_f, palette, models, inverse_models, vertices, normals, triangles, shape_instance,
+                   banner_f, palette, models, world_vertices, world_normals, vertices, triangles, shape_instance,
                    shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light, ambient,
                    diffuse, specular)
 
@@ -220,10 +240,15 @@ def draw_frames_parallel(out, out_labels, halls_rgba, halls_min_depth, halls_giv
     """As :func:`draw_frames`, the cameras shared among numba's threads; a lone camera's frame is shared
     as :data:`LONE_CAMERA_BANDS` bands of rows."""
     inverse_models = inverse_transposes(models)
+    world_vertices = np.empty((4, vertices.shape[0]), np.float32)
+    world_normals = np.empty((3, vertices.shape[0]), np.float32)
+    for s in prange(shape_instance.shape[0]):
+        shape_in_world(s, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
+                       shape_count, world_vertices, world_normals)
     bands = LONE_CAMERA_BANDS if out.shape[0] == 1 else 1
     for job in prange(out.shape[0] * bands):
         _draw_band(job // bands, job % bands, bands, out, out_labels, halls_rgba, halls_min_depth, halls_given,
                    rotations, positions, views, projection, width, height, focal, hall_f64, hall_i64, floor_colours,
-                   face_colours, banner_i, banner_f, palette, models, inverse_models, vertices, normals, triangles,
-                   shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre, shape_radius, light,
-                   ambient, diffuse, specular)
+                   face_colours, banner_i, banner_f, palette, models, world_vertices, world_normals, vertices,
+                   triangles, shape_instance, shape_first, shape_count, shape_rgb, shape_label, shape_centre,
+                   shape_radius, light, ambient, diffuse, specular)
