@@ -51,13 +51,16 @@ def _ground(rotation, position, width, height, row_lo, row_hi, focal, near, far,
             d[i] = -position[2] / ((rx * rotation[2, 0] + down_row) + rotation[2, 2])
             x[i] = position[0] + d[i] * ((rx * rotation[0, 0] + x_row) + rotation[0, 2])
             y[i] = position[1] + d[i] * ((rx * rotation[1, 0] + y_row) + rotation[1, 2])
-        for i in range(width):
-            if d[i] > near and d[i] < far and abs(x[i]) < corner_x and abs(y[i]) < corner_y:
-                k = r * width + i
-                depth[k] = d[i]
-                column = min(np.int32((x[i] + carpet_half_x) / texel_m + pad_columns), floor_columns - 1)
-                row = min(np.int32((carpet_half_y - y[i]) / texel_m + pad_rows), floor_rows - 1)
-                texel[k] = row * floor_columns + column
+        depth_row, texel_row = depth[r * width:(r + 1) * width], texel[r * width:(r + 1) * width]
+        for i in range(width):  # selects, no branches: the loop vectorises
+            inside = d[i] > near and d[i] < far and abs(x[i]) < corner_x and abs(y[i]) < corner_y
+            # a point outside is clamped to the floor, so its texel's arithmetic stays in range (unused)
+            column = min(np.int32((min(max(x[i], -corner_x), corner_x) + carpet_half_x) / texel_m + pad_columns),
+                         floor_columns - 1)
+            row = min(np.int32((carpet_half_y - min(max(y[i], -corner_y), corner_y)) / texel_m + pad_rows),
+                      floor_rows - 1)
+            depth_row[i] = d[i] if inside else np.inf
+            texel_row[i] = row * floor_columns + column if inside else 0
 
 
 @njit(cache=True, error_model="numpy")
@@ -135,55 +138,73 @@ def draw_hall_rows(rotation, position, width, height, row_lo, row_hi, focal, tab
             for f in range(faces):
                 if front[f]:
                     bound = max(bound, row_terms[f, r] + column_max[f])
-            for i in range(width):
-                if ground_depth[r * width + i] * bound >= 1.0:
-                    top = min(top, r)
-                    bottom = max(bottom, r + 1)
-                    break
+            # some pixel's ground_depth * bound >= 1: at the row's farthest ground, as the product grows with it
+            farthest = 0.0
+            for g in ground_depth[r * width:(r + 1) * width]:
+                farthest = max(farthest, g)
+            if bound > F32(0.0) and farthest * bound >= 1.0:
+                top = min(top, r)
+                bottom = max(bottom, r + 1)
     if top < bottom:
         _walls(top, bottom, width, faces, front, behind, any_behind or far_from_inside, inverse_far, column_terms,
                row_terms, face_colours, nothing, colour, hall_inverse)
         _banners(top, bottom, width, front, banner_i, banner_f, column_rays, row_rays, position, column_terms,
                  row_terms, colour, hall_inverse)
-    for k in range(row_lo * width, row_hi * width):
+    lo, hi = row_lo * width, row_hi * width  # views indexed from 0, selects: the loop vectorises
+    _compose(ground_depth[lo:hi], texel[lo:hi], colour[lo:hi], hall_inverse[lo:hi], floor_colours, palette, k0, k1,
+             out_rgba[lo:hi], out_min_depth[lo:hi])
+
+
+@njit(cache=True, error_model="numpy")
+def _compose(ground_depth, texel, colour, hall_inverse, floor_colours, palette, k0, k1, out_rgba, out_min_depth):
+    """Each pixel's colour and depth threshold: the floor where it is nearer than the walls, else the walls."""
+    for k in range(ground_depth.shape[0]):
         g = ground_depth[k]
         on_ground = g < np.inf and g * hall_inverse[k] <= 1.0
-        if on_ground:
-            colour[k] = floor_colours[texel[k]]
-            inverse = F32(1.0) / F32(g)
-        else:
-            inverse = hall_inverse[k]
+        chosen = np.int32(floor_colours[texel[k]]) if on_ground else colour[k]
+        inverse = F32(1.0) / F32(g) if on_ground else hall_inverse[k]
         out_min_depth[k] = k0 - k1 * inverse
-        out_rgba[k] = palette[colour[k]]
+        out_rgba[k] = palette[chosen]
 
 
 @njit(cache=True, error_model="numpy")
 def _walls(top, bottom, width, faces, front, behind, check_view, inverse_far, column_terms, row_terms,
            face_colours, nothing, colour, hall_inverse):
-    """The nearest wall or roof face of each pixel of rows ``top:bottom``, its colour and inverse depth."""
+    """The nearest wall or roof face of each pixel of rows ``top:bottom``, its colour and inverse depth.
+
+    Faces in order, the last of equal inverse depth kept; each row is done face by face over all its
+    pixels, with selects (the loops vectorise)."""
+    nearest = np.empty(width, np.float32)
+    chosen = np.empty(width, np.int32)
+    in_view = np.empty(width, np.bool_)
     for r in range(top, bottom):
-        for i in range(width):
-            nearest = F32(-np.inf)
-            chosen = -1
-            for f in range(faces):
-                if front[f]:
-                    inverse = row_terms[f, r] + column_terms[f, i]
-                    if inverse >= nearest:
-                        nearest, chosen = inverse, f
-            k = r * width + i
-            if chosen < 0:
+        nearest[:] = F32(NEG_INF)
+        chosen[:] = -1
+        for f in range(faces):
+            if not front[f]:
                 continue
-            if check_view:  # the ray must reach the far plane's side of the hall, and enter before it leaves
-                in_view = nearest > inverse_far
-                for f in range(faces):
-                    if behind[f]:
-                        in_view = in_view and nearest < row_terms[f, r] + column_terms[f, i]
-                if not in_view:
-                    hall_inverse[k] = F32(NEG_INF)
-                    colour[k] = nothing
+            term, columns = row_terms[f, r], column_terms[f]
+            for i in range(width):
+                inverse = term + columns[i]
+                take = inverse >= nearest[i]
+                nearest[i] = inverse if take else nearest[i]
+                chosen[i] = f if take else chosen[i]
+        for i in range(width):
+            in_view[i] = chosen[i] >= 0
+        if check_view:  # the ray must reach the far plane's side of the hall, and enter before it leaves
+            for i in range(width):
+                in_view[i] = in_view[i] and nearest[i] > inverse_far
+            for f in range(faces):
+                if not behind[f]:
                     continue
-            hall_inverse[k] = nearest
-            colour[k] = face_colours[chosen]
+                term, columns = row_terms[f, r], column_terms[f]
+                for i in range(width):
+                    in_view[i] = in_view[i] and nearest[i] < term + columns[i]
+        colour_row, inverse_row = colour[r * width:(r + 1) * width], hall_inverse[r * width:(r + 1) * width]
+        for i in range(width):
+            seen = chosen[i] >= 0
+            inverse_row[i] = nearest[i] if in_view[i] else (F32(NEG_INF) if seen else inverse_row[i])
+            colour_row[i] = face_colours[max(chosen[i], 0)] if in_view[i] else (nothing if seen else colour_row[i])
 
 
 @njit(cache=True, error_model="numpy")
