@@ -76,7 +76,7 @@ def _add_taps(row, top, bottom, w00, w01, w10, w11):
 
 
 @njit(cache=True, error_model="numpy")
-def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains, sigma_by_level,
+def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, vignetting, gains, sigma_by_level,
                   chroma_sigma, yuv422, key, bank):
     """Write into ``out`` (uint8, like ``src``, (H, W, 3), W even) the frame ``src`` as the sensor records it.
 
@@ -84,13 +84,19 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
     equal parts of the blur vector (``blur_u``, ``blur_v``) px centred on (u, v), the rolling shutter
     displacing the content of row v by (``shear_u``, ``shear_v``) px per row times the row's distance from
     the centre row (the rows are read one after another while the image moves); times ``shade[v, u]``
-    (vignetting) and ``gains`` (per channel: exposure and colour cast); then, with ``yuv422``, converted to
+    (vignetting, unless ``vignetting`` is False: then ``shade`` is all ones) and ``gains`` (per channel: exposure and colour cast); then, with ``yuv422``, converted to
     YUV (BT.601, full range), U and V averaged over each horizontal pair of pixels, noise added (Y: standard
     deviation ``sigma_by_level`` at Y rounded, levels 0-255; U and V: ``chroma_sigma`` levels, one draw per
     pair) and converted back; without it, noise of ``sigma_by_level`` at each RGB channel's rounded value.
     Rounded and clipped to 0-255. The normal variates come from ``bank`` (see the module).
+
+    A profile without vignetting, gains of 1 or noise independent of the level skips that work (the
+    same values: a product by 1 is exact).
     """
     h, w = src.shape[0], src.shape[1]
+    shaded = vignetting or not (gains[0] == 1.0 and gains[1] == 1.0 and gains[2] == 1.0)
+    level_free = sigma_by_level.min() == sigma_by_level.max()
+    sigma0 = sigma_by_level[0]
     n = 3 * w
     centre = (h - 1) * 0.5
     still = taps <= 1 and shear_u == 0.0 and shear_v == 0.0
@@ -99,8 +105,9 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
     image = np.empty((h, n), np.float32)  # float samples vectorise better than uint8 ones
     if not still:
         for v in range(h):
+            source, target = flat[v], image[v]
             for j in range(n):
-                image[v, j] = flat[v, j]
+                target[j] = source[j]
     row = np.empty(n, np.float32)
     noise = np.empty(n, np.float32)
     chroma32 = np.float32(chroma_sigma)
@@ -110,8 +117,9 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
     for v in range(h):
         # ---- blur and rolling shutter: every tap of a row has the same offset, so the same weights
         if still:
+            source = flat[v]
             for j in range(n):
-                row[j] = flat[v, j]
+                row[j] = source[j]
         else:
             row[:] = 0.0
             weight = np.float32(1.0 / taps)
@@ -138,10 +146,11 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
                     _add_taps(row[3 * lo:3 * hi], top[3 * (lo + ix):3 * (hi + ix) + 3],
                               bottom[3 * (lo + ix):3 * (hi + ix) + 3], w00, w01, w10, w11)
         # ---- shading, exposure, cast
-        shade_row = shade[v]
-        for u in range(w):
-            for c in range(3):
-                row[3 * u + c] *= shade_row[u] * gains[c]
+        if shaded:
+            shade_row = shade[v]
+            for u in range(w):
+                for c in range(3):
+                    row[3 * u + c] *= shade_row[u] * gains[c]
         # ---- the row's normal variates: two runs of the bank
         bits = _hash(key + np.uint64(v + 1) * np.uint64(0x9E3779B97F4A7C15))
         _mix_runs(noise, bank[(bits & low) % span:], bank[(bits >> np.uint64(32)) % span:], root_half)
@@ -160,32 +169,38 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, gains
                     result[v, q + 1] = _level(y - np.float32(0.344136) * cu - np.float32(0.714136) * cv)
                     result[v, q + 2] = _level(y + np.float32(1.772) * cu)
         else:
-            for j in range(n):
-                x = row[j]
-                result[v, j] = _level(x + sigma_by_level[_level(x)] * noise[j])
+            target = result[v]
+            if level_free:
+                for j in range(n):
+                    target[j] = _level(row[j] + sigma0 * noise[j])
+            else:
+                for j in range(n):
+                    x = row[j]
+                    target[j] = _level(x + sigma_by_level[_level(x)] * noise[j])
 
 
 @njit(cache=True, error_model="numpy")
-def _apply_one(i, srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys, bank):
-    apply_effects(srcs[i], outs[i], blurs[i, 0], blurs[i, 1], taps[i], shears[i, 0], shears[i, 1], shade, gains[i],
-                  sigma_by_level, chroma_sigma, yuv422, keys[i], bank)
+def _apply_one(i, srcs, outs, blurs, taps, shears, shade, vignetting, gains, sigma_by_level, chroma_sigma, yuv422,
+               keys, bank):
+    apply_effects(srcs[i], outs[i], blurs[i, 0], blurs[i, 1], taps[i], shears[i, 0], shears[i, 1], shade, vignetting,
+                  gains[i], sigma_by_level, chroma_sigma, yuv422, keys[i], bank)
 
 
 @njit(cache=True, error_model="numpy")
-def apply_effects_serial(srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys,
-                         bank):
+def apply_effects_serial(srcs, outs, blurs, taps, shears, shade, vignetting, gains, sigma_by_level, chroma_sigma,
+                         yuv422, keys, bank):
     """:func:`apply_effects` of frame ``i`` of ``srcs`` (n, H, W, 3) into ``outs[i]`` for each ``i``, with
     its own blur and shear (``blurs``, ``shears`` (n, 2) px and px per row), ``taps`` (n,), ``gains``
     (n, 3) and ``keys`` (n,) uint64; the profile's ``shade``, ``sigma_by_level`` and ``chroma_sigma`` shared."""
     for i in range(srcs.shape[0]):
-        _apply_one(i, srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys,
-                   bank)
+        _apply_one(i, srcs, outs, blurs, taps, shears, shade, vignetting, gains, sigma_by_level, chroma_sigma, yuv422,
+                   keys, bank)
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
-def apply_effects_parallel(srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422,
-                           keys, bank):
+def apply_effects_parallel(srcs, outs, blurs, taps, shears, shade, vignetting, gains, sigma_by_level, chroma_sigma,
+                           yuv422, keys, bank):
     """:func:`apply_effects_serial`, the frames shared among numba's threads (the same images)."""
     for i in prange(srcs.shape[0]):
-        _apply_one(i, srcs, outs, blurs, taps, shears, shade, gains, sigma_by_level, chroma_sigma, yuv422, keys,
-                   bank)
+        _apply_one(i, srcs, outs, blurs, taps, shears, shade, vignetting, gains, sigma_by_level, chroma_sigma, yuv422,
+                   keys, bank)

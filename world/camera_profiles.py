@@ -286,7 +286,7 @@ def apply_frames_effects(profile: CameraProfile, images: np.ndarray, effects: Se
            np.array([e.blur_px for e in effects], np.float64).reshape(-1, 2),
            np.array([e.taps for e in effects], np.int64),
            np.array([e.shear_px_per_row for e in effects], np.float64).reshape(-1, 2),
-           shading_map(profile, height, width),
+           shading_map(profile, height, width), profile.corner_shading != 1.0,
            np.array([e.gains for e in effects], np.float32).reshape(-1, 3),
            noise_sigmas(profile), float(profile.chroma_noise), bool(profile.yuv422),
            np.array([e.key for e in effects], np.uint64), NORMAL_BANK)

@@ -111,6 +111,25 @@ def draw_bodies(view, projection, width, height, rows, models, world_vertices, w
 
 
 @njit(cache=True, error_model="numpy")
+def shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre, shape_radius):
+    """Whether each shape may show in some camera of ``views`` (n, 4, 4): its bounding sphere is not wholly
+    outside the camera's view frustum (the test :func:`draw_bodies` makes before drawing a shape)."""
+    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
+    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    tan_x = (width / 2.0) / (height / 2.0) / float(projection[1, 1])
+    tan_y = 1.0 / float(projection[1, 1])
+    model_view = np.empty((4, 4), np.float32)
+    seen = np.zeros(shape_instance.shape[0], np.bool_)
+    for c in range(views.shape[0]):
+        for s in range(shape_instance.shape[0]):
+            if not seen[s]:
+                mat_mul(views[c], models[shape_instance[s]], model_view)
+                seen[s] = not _outside_frustum(model_view, shape_centre[s], shape_radius[s], tan_x, tan_y,
+                                               float(near), float(far))
+    return seen
+
+
+@njit(cache=True, error_model="numpy")
 def shape_in_world(s, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first, shape_count,
                    world_vertices, world_normals):
     """Shape ``s``'s vertices in the world, the same for every camera: into ``world_vertices`` (4, v) float32
@@ -220,8 +239,10 @@ def draw_frames(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotat
     inverse_models = inverse_transposes(models)
     world_vertices = np.empty((4, vertices.shape[0]), np.float32)
     world_normals = np.empty((3, vertices.shape[0]), np.float32)
-    for s in range(shape_instance.shape[0]):
-        shape_in_world(s, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
+    shown = np.nonzero(shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre,
+                                      shape_radius))[0]
+    for k in range(shown.shape[0]):
+        shape_in_world(shown[k], models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
                        shape_count, world_vertices, world_normals)
     for c in range(out.shape[0]):
         _draw_band(c, 0, 1, out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions,
@@ -242,8 +263,10 @@ def draw_frames_parallel(out, out_labels, halls_rgba, halls_min_depth, halls_giv
     inverse_models = inverse_transposes(models)
     world_vertices = np.empty((4, vertices.shape[0]), np.float32)
     world_normals = np.empty((3, vertices.shape[0]), np.float32)
-    for s in prange(shape_instance.shape[0]):
-        shape_in_world(s, models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
+    shown = np.nonzero(shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre,
+                                      shape_radius))[0]
+    for k in prange(shown.shape[0]):
+        shape_in_world(shown[k], models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
                        shape_count, world_vertices, world_normals)
     bands = LONE_CAMERA_BANDS if out.shape[0] == 1 else 1
     for job in prange(out.shape[0] * bands):
