@@ -102,7 +102,9 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, vigne
     still = taps <= 1 and shear_u == 0.0 and shear_v == 0.0
     flat = src.reshape(h, n)
     result = out.reshape(h, n)
-    image = np.empty((h, n), np.float32)  # float samples vectorise better than uint8 ones
+    # float64 samples: the taps' weights are float64, and a sample needs no conversion per tap (the values,
+    # whole levels, are the same in any float type)
+    image = np.empty((h, n), np.float64)
     if not still:
         for v in range(h):
             source, target = flat[v], image[v]
