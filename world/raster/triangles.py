@@ -211,18 +211,25 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
     z0, z1, z2 = float(clip[2, 0]), float(clip[2, 1]), float(clip[2, 2])
     w0, w1, w2 = float(screen[0, 3]), float(screen[1, 3]), float(screen[2, 3])
     first_x, last_x = int(lo_x), int(hi_x)
+    # u.x = a_x px + b_x, u.y = a_y px + b_y, u.z - u.x - u.y: each must have the sign of u.z. The slopes
+    # are the same on every row; a span's ends, where an edge function is zero, come from their
+    # reciprocals (the rounding is some 1e-16 px, far inside the margin)
+    a_x, a_y = s1y, -s1x
+    a_z = -(a_x + a_y)
+    inverse_x = -1.0 / a_x if a_x != 0.0 else 0.0
+    inverse_y = -1.0 / a_y if a_y != 0.0 else 0.0
+    inverse_z = -1.0 / a_z if a_z != 0.0 else 0.0
     for py in range(max(int(lo_y), rows[0]), min(int(hi_y) + 1, rows[1])):
-        # u.x = a_x px + b_x, u.y = a_y px + b_y, u.z - u.x - u.y: each must have the sign of u.z
         dy = ay - py
-        a_x, b_x = s1y, s0y * dy - ax * s1y
-        a_y, b_y = -s1x, ax * s1x - s0x * dy
+        b_x = s0y * dy - ax * s1y
+        b_y = ax * s1x - s0x * dy
         start, stop = float(first_x), float(last_x)
-        for a, b in ((a_x, b_x), (a_y, b_y), (-(a_x + a_y), area - b_x - b_y)):
+        for a, b, inverse in ((a_x, b_x, inverse_x), (a_y, b_y, inverse_y), (a_z, area - b_x - b_y, inverse_z)):
             a, b = a * side, b * side
             if a > 0.0:
-                start = max(start, -b / a - SPAN_MARGIN_PX)
+                start = max(start, b * side * inverse - SPAN_MARGIN_PX)
             elif a < 0.0:
-                stop = min(stop, -b / a + SPAN_MARGIN_PX)
+                stop = min(stop, b * side * inverse + SPAN_MARGIN_PX)
             elif b < -SPAN_MARGIN_PX:
                 stop = -1.0
         if not start <= stop:
@@ -279,7 +286,7 @@ def _flat_colour(normals, light, rgb, ambient, diffuse_coefficient, specular_coe
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _row_coordinates(x0, x1, py, ax, ay, s0x, s0y, s1x, s1y, area, w0, w1, w2, z0, z1, z2, row):
     """TinyRenderer's coordinates of the points ``x0..x1`` of screen row ``py``, as :func:`_barycentric` and
     its caller compute them, into ``row`` (7, w): screen barycentrics (3), perspective-correct ones (3) and
