@@ -194,9 +194,14 @@ def run_match(
     else:
         controllers = InProcessControllers(policies)
     own_match = None
+    threads = None
     try:
         if match is None:
             match = own_match = Match(config)
+        threads = match.world.camera_threads
+        # controller processes take the other cores: the frames are drawn sooner on one than on threads
+        # that would take turns with them
+        match.world.camera_threads = threads and not isinstance(controllers, ProcessControllers)
         summary = _run(config, controllers, seed, out_dir, progress, max_steps, match, observer, policy_seeds,
                        state_hashes, dict(played_by) if played_by is not None else None)
         return summary
@@ -204,6 +209,8 @@ def run_match(
         controllers.close()
         if own_match is not None:
             own_match.close()
+        elif match is not None and threads is not None:
+            match.world.camera_threads = threads
 
 
 def _run(config: MatchConfig, controllers: Controllers, seed: int, out_dir: Path | None, progress: bool,

@@ -275,3 +275,36 @@ def test_a_controller_kept_from_the_processor_is_waited_for() -> None:
         resume.join()
     assert not decision.faults and decision.estimates["home_0"][0] == 0.01, decision
     assert waited >= 0.25
+
+
+@pytest.mark.render
+def test_a_match_with_controller_processes_draws_its_frames_on_one_thread() -> None:
+    """Controller processes take the other cores: during the run the world draws its cameras on one
+    thread, and a match the caller gave back has the setting it had."""
+    from match.game import Match, MatchConfig
+    from match.referee import RefereeConfig
+    from match.runner import run_match
+
+    class Seen:
+        def __init__(self) -> None:
+            self.threads: list[bool] = []
+
+        def decided(self, match, actions) -> None:
+            self.threads.append(match.world.camera_threads)
+
+        def done(self, match) -> bool:
+            return len(self.threads) >= 2
+
+    config = MatchConfig(home_players=1, away_players=1, referee=RefereeConfig(**QUICK))
+    factories = {agent: functools.partial(make_policy, GOOD) for agent in ("home_0", "away_0")}
+    match = Match(config)
+    try:
+        match.world.camera_threads = True
+        before = match.world.camera_threads  # False where numba's threads cannot be had
+        seen = Seen()
+        run_match(config, ProcessControllers(factories, ControllerLimits(group="team")), seed=1, progress=False,
+                  match=match, observer=seen)
+        assert seen.threads == [False, False]
+        assert match.world.camera_threads == before
+    finally:
+        match.close()

@@ -266,10 +266,11 @@ def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: Fram
     return apply_frames_effects(profile, image[np.newaxis], [effects])[0]
 
 
-def apply_frames_effects(profile: CameraProfile, images: np.ndarray, effects: Sequence[FrameEffects]) -> np.ndarray:
+def apply_frames_effects(profile: CameraProfile, images: np.ndarray, effects: Sequence[FrameEffects],
+                         parallel: bool = False) -> np.ndarray:
     """New images (n, H, W, 3) uint8: frame ``i`` of ``images`` through ``effects[i]`` (lost frames are the
-    caller's). Several frames go through in one compiled call, on numba's threads when the renderer's
-    cameras are drawn on them (the same images either way)."""
+    caller's), in one compiled call; with ``parallel``, on numba's threads where they can be had
+    (:func:`world.raster.threads.parallel_cameras`). The same images either way."""
     if (not isinstance(images, np.ndarray) or images.dtype != np.uint8 or images.ndim != 4 or images.shape[3] != 3
             or images.shape[2] % 2):
         raise ValueError(f"images of {getattr(images, 'dtype', type(images))} {getattr(images, 'shape', '')}; "
@@ -281,7 +282,7 @@ def apply_frames_effects(profile: CameraProfile, images: np.ndarray, effects: Se
 
     height, width = images.shape[1], images.shape[2]
     out = np.empty_like(images)
-    kernel = apply_effects_parallel if len(effects) > 1 and parallel_cameras() else apply_effects_serial
+    kernel = apply_effects_parallel if parallel and len(effects) > 1 and parallel_cameras() else apply_effects_serial
     kernel(np.ascontiguousarray(images), out,
            np.array([e.blur_px for e in effects], np.float64).reshape(-1, 2),
            np.array([e.taps for e in effects], np.int64),
@@ -341,14 +342,16 @@ class CameraEffects:
             return image
         return self.apply_many([(robot_id, image, pose)])[0]
 
-    def apply_many(self, frames: Sequence[tuple[str, np.ndarray, CameraPose]]) -> list[np.ndarray]:
+    def apply_many(self, frames: Sequence[tuple[str, np.ndarray, CameraPose]], parallel: bool = False
+                   ) -> list[np.ndarray]:
         """The frames robots get for images ``(robot_id, image, pose)`` of one moment, in order: the same
-        as :meth:`apply` of each in turn, the images drawn through the profile in one call."""
+        as :meth:`apply` of each in turn, the images drawn through the profile in one call (on numba's
+        threads with ``parallel``)."""
         if self.profile.clean or not frames:
             return [image for _, image, _ in frames]
         ids = [robot_id for robot_id, _, _ in frames]
         if len(set(ids)) < len(ids):  # a robot's second frame follows from its first
-            return [self.apply_many([one])[0] for one in frames]
+            return [self.apply_many([one], parallel)[0] for one in frames]
         seen = [self._seen.get(robot_id) for robot_id in ids]
         effects = []
         for (robot_id, image, pose), before in zip(frames, seen):
@@ -356,7 +359,7 @@ class CameraEffects:
             self._frames[robot_id] = frame + 1
             effects.append(frame_effects(self.profile, image_velocity_pxps(before.pose if before else None, pose),
                                          pose.rotation, self.frame_draws(robot_id, frame), image.shape[0]))
-        drawn = apply_frames_effects(self.profile, np.stack([image for _, image, _ in frames]), effects)
+        drawn = apply_frames_effects(self.profile, np.stack([image for _, image, _ in frames]), effects, parallel)
         delivered = []
         for k, ((robot_id, _, pose), before, effect) in enumerate(zip(frames, seen, effects)):
             out = before.frame if effect.lost and before is not None else drawn[k]

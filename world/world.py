@@ -33,6 +33,7 @@ from world.body_poses import BodyPoses
 from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TeamColor, build_robot, set_team_color
 from world.raster.geometry import raster_geometry
 from world.raster.renderer import CompiledRenderer
+from world.raster.threads import parallel_cameras
 from world.scene import SceneBodies, build_scene
 from world.static_scene import StaticScene
 from world.sensors import (
@@ -193,6 +194,18 @@ class World:
     def compiled_renderer(self) -> CompiledRenderer | None:
         """The compiled renderer that draws the cameras (:mod:`world.raster`); None with ``renderer='tiny'``."""
         return self._raster
+
+    @property
+    def camera_threads(self) -> bool:
+        """Whether the frames of one :meth:`render_cameras` call are drawn, and go through the camera profile,
+        on numba's threads (by default where they can be had; the images are the same either way). Worth it
+        when the other cores are idle; a match whose controller processes take them draws on one."""
+        return self._raster is not None and self._raster.parallel
+
+    @camera_threads.setter
+    def camera_threads(self, enabled: bool) -> None:
+        if self._raster is not None:
+            self._raster.parallel = bool(enabled) and parallel_cameras()
 
     @property
     def robot_ids(self) -> tuple[str, ...]:
@@ -450,7 +463,7 @@ class World:
             images = self._compiled_frames(poses)[0]
             if not self._camera.profile.clean:
                 taken = [CameraPose(self.time_s, self._controllers[rid].camera, *pose) for rid, pose in zip(ids, poses)]
-                images = self._camera.apply_many(list(zip(ids, images, taken)))
+                images = self._camera.apply_many(list(zip(ids, images, taken)), self._raster.parallel)
             yield from zip(ids, images)
             return
         for rid in ids:
