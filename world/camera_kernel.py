@@ -8,8 +8,8 @@ stream, over the square root of 2: one key gives one image, the noise is Gaussia
 repeats only if both offsets do (one chance in about a billion). Reading runs of a table vectorises;
 a draw per value would cost most of the frame's budget.
 
-The frames of several cameras go through in one call (:func:`apply_effects_many`), shared among
-numba's threads when the renderer's cameras are (:func:`world.raster.threads.parallel_cameras`).
+The frames of several cameras go through in one call: one after another (:func:`apply_effects_serial`)
+or shared among numba's threads (:func:`apply_effects_parallel`), with the same images.
 """
 
 from __future__ import annotations
@@ -84,11 +84,12 @@ def apply_effects(src, out, blur_u, blur_v, taps, shear_u, shear_v, shade, vigne
     equal parts of the blur vector (``blur_u``, ``blur_v``) px centred on (u, v), the rolling shutter
     displacing the content of row v by (``shear_u``, ``shear_v``) px per row times the row's distance from
     the centre row (the rows are read one after another while the image moves); times ``shade[v, u]``
-    (vignetting, unless ``vignetting`` is False: then ``shade`` is all ones) and ``gains`` (per channel: exposure and colour cast); then, with ``yuv422``, converted to
-    YUV (BT.601, full range), U and V averaged over each horizontal pair of pixels, noise added (Y: standard
-    deviation ``sigma_by_level`` at Y rounded, levels 0-255; U and V: ``chroma_sigma`` levels, one draw per
-    pair) and converted back; without it, noise of ``sigma_by_level`` at each RGB channel's rounded value.
-    Rounded and clipped to 0-255. The normal variates come from ``bank`` (see the module).
+    (vignetting; with ``vignetting`` False, ``shade`` is all ones) and ``gains`` (per channel: exposure
+    and colour cast); then, with ``yuv422``, converted to YUV (BT.601, full range), U and V averaged over
+    each horizontal pair of pixels, noise added (Y: standard deviation ``sigma_by_level`` at Y rounded,
+    levels 0-255; U and V: ``chroma_sigma`` levels, one draw per pair) and converted back; without it,
+    noise of ``sigma_by_level`` at each RGB channel's rounded value. Rounded and clipped to 0-255. The
+    normal variates come from ``bank`` (see the module).
 
     A profile without vignetting, gains of 1 or noise independent of the level skips that work (the
     same values: a product by 1 is exact).

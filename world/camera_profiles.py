@@ -260,7 +260,8 @@ def frame_effects(profile: CameraProfile, velocity_pxps: tuple[float, float], ro
 
 def apply_frame_effects(profile: CameraProfile, image: np.ndarray, effects: FrameEffects) -> np.ndarray:
     """A new (H, W, 3) uint8 image: ``image`` through ``effects`` (lost frames are the caller's)."""
-    if not isinstance(image, np.ndarray) or image.ndim != 3:
+    if (not isinstance(image, np.ndarray) or image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3
+            or image.shape[1] % 2):
         raise ValueError(f"image of {getattr(image, 'dtype', type(image))} {getattr(image, 'shape', '')}; "
                          "expected uint8 (H, W, 3) with W even")
     return apply_frames_effects(profile, image[np.newaxis], [effects])[0]

@@ -7,10 +7,12 @@ a depth, colour and label buffer; a body pixel shows where its depth, converted 
 converts TinyRenderer's buffer, is nearer than the hall's. Rows are flipped to top-to-bottom.
 
 Shapes are culled by their bounding sphere against the view frustum first (a culled shape
-could not have covered a pixel). Cameras are independent, and so are bands of rows of one
-camera (each row of the hall depends only on the row, and a triangle drawn into a band covers
-there what it covers in the whole frame): :func:`draw_frames_parallel` shares the cameras, or a
-lone camera's bands, among numba's threads, :func:`draw_frames` draws on one.
+could not have covered a pixel). The vertices and normals of the shapes some camera may see are
+placed in the world once per call (:func:`shape_in_world`); each camera then projects them.
+Cameras are independent, and so are bands of rows of one camera (each row of the hall depends
+only on the row, and a triangle drawn into a band covers there what it covers in the whole
+frame): :func:`draw_frames_parallel` shares the cameras, or a lone camera's bands, among numba's
+threads, :func:`draw_frames` draws on one.
 """
 
 from __future__ import annotations
@@ -152,8 +154,9 @@ def _merge(width, height, rows, projection, zbuffer, colour, label, hall_rgba, h
     rows flipped to top-to-bottom.
 
     A pixel no body covers has the clear depth, which converts to ``clear_depth``: it shows the hall, or
-    the clear colour where the hall is not in view. Each row is written so first (a loop without
-    branches), then again from the first to the last pixel a body covers, each depth converted."""
+    the clear colour where the hall is not in view. Each row is first written as if no body covered it
+    (a loop without branches), then rewritten from the first to the last pixel a body covers, each depth
+    converted."""
     near = projection[2, 3] / (projection[2, 2] - F32(1.0))
     far = projection[2, 3] / (projection[2, 2] + F32(1.0))
     clear = -far

@@ -213,7 +213,7 @@ def raster_triangle(clip, original, clipped, viewport, zbuffer, colour, label, l
     first_x, last_x = int(lo_x), int(hi_x)
     # u.x = a_x px + b_x, u.y = a_y px + b_y, u.z - u.x - u.y: each must have the sign of u.z. The slopes
     # are the same on every row; a span's ends, where an edge function is zero, come from their
-    # reciprocals (the rounding is some 1e-16 px, far inside the margin)
+    # reciprocals (some 1e-13 px from the quotients at most, far inside the margin)
     a_x, a_y = s1y, -s1x
     a_z = -(a_x + a_y)
     inverse_x = -1.0 / a_x if a_x != 0.0 else 0.0
