@@ -48,6 +48,15 @@ def _viewport(width, height):
     return m
 
 
+@njit(cache=True, inline="always")
+def _frustum(projection, width, height):
+    """The near and far planes (m, float32) of pybullet's projection matrix, and the tangents of the
+    half angles of view across and up the image."""
+    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
+    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    return near, far, (width / 2.0) / (height / 2.0) / float(projection[1, 1]), 1.0 / float(projection[1, 1])
+
+
 @njit(cache=True, error_model="numpy")
 def _outside_frustum(model_view, centre, radius, tan_x, tan_y, near, far):
     """Whether a sphere (centre in the shape's frame, radius m) lies wholly outside the view frustum."""
@@ -73,8 +82,7 @@ def draw_bodies(view, projection, width, height, rows, models, world_vertices, w
     """Every shape's triangles into the buffers (h*w, rows from the bottom), as TinyRenderer draws them;
     only the buffer rows ``rows`` = ``(lo, hi)`` are cleared and drawn. ``world_vertices`` and
     ``world_normals``: the vertices in the world (:func:`shape_in_world`)."""
-    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
-    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    near, far, tan_x, tan_y = _frustum(projection, width, height)
     lo, hi = rows[0] * width, rows[1] * width
     zbuffer[lo:hi] = -far
     colour[lo:hi] = CLEAR
@@ -82,8 +90,6 @@ def draw_bodies(view, projection, width, height, rows, models, world_vertices, w
     viewport = _viewport(width, height)
     eye = invert_transpose(view)  # its row 3 is the camera position (TinyRenderer's inverted view matrix)
     px, py, pz = float(eye[3, 0]), float(eye[3, 1]), float(eye[3, 2])
-    tan_x = (width / 2.0) / (height / 2.0) / float(projection[1, 1])
-    tan_y = 1.0 / float(projection[1, 1])
     gl = np.empty((4, 3), np.float32)
     vertex_normals = np.empty((3, 3), np.float32)
     model_view = np.empty((4, 4), np.float32)
@@ -116,10 +122,7 @@ def draw_bodies(view, projection, width, height, rows, models, world_vertices, w
 def shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre, shape_radius):
     """Whether each shape may show in some camera of ``views`` (n, 4, 4): its bounding sphere is not wholly
     outside the camera's view frustum (the test :func:`draw_bodies` makes before drawing a shape)."""
-    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
-    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
-    tan_x = (width / 2.0) / (height / 2.0) / float(projection[1, 1])
-    tan_y = 1.0 / float(projection[1, 1])
+    near, far, tan_x, tan_y = _frustum(projection, width, height)
     model_view = np.empty((4, 4), np.float32)
     seen = np.zeros(shape_instance.shape[0], np.bool_)
     for c in range(views.shape[0]):
@@ -157,8 +160,7 @@ def _merge(width, height, rows, projection, zbuffer, colour, label, hall_rgba, h
     the clear colour where the hall is not in view. Each row is first written as if no body covered it
     (a loop without branches), then rewritten from the first to the last pixel a body covers, each depth
     converted."""
-    near = projection[2, 3] / (projection[2, 2] - F32(1.0))
-    far = projection[2, 3] / (projection[2, 2] + F32(1.0))
+    near, far, _, _ = _frustum(projection, width, height)
     clear = -far
     clear_depth = _depth_of(clear, near, far)
     packed = np.empty(width, np.uint32)
@@ -232,6 +234,16 @@ def inverse_transposes(models):
 
 
 @njit(cache=True, error_model="numpy")
+def _world_buffers(views, projection, width, height, models, vertices, shape_instance, shape_centre, shape_radius):
+    """What a call places in the world before its cameras draw: the normal matrices, the buffers of the
+    vertices and normals in the world (for :func:`shape_in_world`) and the shapes some camera may see."""
+    shown = np.nonzero(shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre,
+                                      shape_radius))[0]
+    return (inverse_transposes(models), np.empty((4, vertices.shape[0]), np.float32),
+            np.empty((3, vertices.shape[0]), np.float32), shown)
+
+
+@njit(cache=True, error_model="numpy")
 def draw_frames(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotations, positions, views, projection,
                 width, height, focal, hall_f64, hall_i64, floor_colours, face_colours, banner_i, banner_f, palette,
                 models, vertices, normals, triangles, shape_instance, shape_first, shape_count, shape_rgb,
@@ -239,11 +251,8 @@ def draw_frames(out, out_labels, halls_rgba, halls_min_depth, halls_given, rotat
     """Every camera's frame (``out`` (n, h, w, 3) uint8) and pybullet-style labels (``out_labels`` (n, h, w)
     int32, -1 where the hall shows), one camera after another. ``halls_*`` (n, h*w): each camera's hall,
     drawn here unless ``halls_given``."""
-    inverse_models = inverse_transposes(models)
-    world_vertices = np.empty((4, vertices.shape[0]), np.float32)
-    world_normals = np.empty((3, vertices.shape[0]), np.float32)
-    shown = np.nonzero(shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre,
-                                      shape_radius))[0]
+    inverse_models, world_vertices, world_normals, shown = _world_buffers(
+        views, projection, width, height, models, vertices, shape_instance, shape_centre, shape_radius)
     for k in range(shown.shape[0]):
         shape_in_world(shown[k], models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
                        shape_count, world_vertices, world_normals)
@@ -263,11 +272,8 @@ def draw_frames_parallel(out, out_labels, halls_rgba, halls_min_depth, halls_giv
                          specular):
     """As :func:`draw_frames`, the cameras shared among numba's threads; a lone camera's frame is shared
     as :data:`LONE_CAMERA_BANDS` bands of rows."""
-    inverse_models = inverse_transposes(models)
-    world_vertices = np.empty((4, vertices.shape[0]), np.float32)
-    world_normals = np.empty((3, vertices.shape[0]), np.float32)
-    shown = np.nonzero(shapes_in_view(views, projection, width, height, models, shape_instance, shape_centre,
-                                      shape_radius))[0]
+    inverse_models, world_vertices, world_normals, shown = _world_buffers(
+        views, projection, width, height, models, vertices, shape_instance, shape_centre, shape_radius)
     for k in prange(shown.shape[0]):
         shape_in_world(shown[k], models, inverse_models, vertices, normals, triangles, shape_instance, shape_first,
                        shape_count, world_vertices, world_normals)
