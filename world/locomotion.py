@@ -127,6 +127,7 @@ class LocomotionController:
     joint_setpoints: dict[Joint, float] = field(default_factory=dict)
     _yaw_torque: float = 0.0
     _motors_set: bool = False  # motor targets persist in pybullet until changed
+    _standing_at: tuple[float, float] | None = None  # head goals at which every setpoint reached STANDING
 
     # ---- commands -------------------------------------------------------------------
 
@@ -204,6 +205,7 @@ class LocomotionController:
         self.refused = None
         self.joint_setpoints = {}
         self._motors_set = False
+        self._standing_at = None
         self._anchor()
 
     # ---- control --------------------------------------------------------------------
@@ -290,14 +292,20 @@ class LocomotionController:
         return gaits.STANDING
 
     def _drive_joints(self, targets: gaits.JointTargets, dt_s: float, kick_speed: float = 1.0) -> None:
-        """Move each joint's setpoint toward its target at the joint's speed; send if changed."""
+        """Move each joint's setpoint toward its target at the joint's speed; send if changed. A robot whose
+        setpoints all reached the standing targets and these head goals is left as it is (nothing would
+        change)."""
+        head_goals = (self.head_yaw_target, self.head_pitch_target)
+        standing = targets is gaits.STANDING
+        if standing and self._motors_set and self._standing_at == head_goals:
+            return
         cfg = self.config
         kicking = self.active is not None and self.active.motion.is_kick
         limb_step = (cfg.kick_joint_speed_radps * kick_speed if kicking else cfg.joint_speed_max_radps) * dt_s
         head_step = HEAD_SPEED_RADPS * dt_s
         setpoints = self.joint_setpoints
         changed = False
-        head_goals = (self.head_yaw_target, self.head_pitch_target)
+        reached = True
         for joint, head in _JOINT_SLOTS:
             if head is None:
                 goal, step = targets.get(joint, 0.0), limb_step
@@ -310,6 +318,7 @@ class LocomotionController:
             if before != current:
                 setpoints[joint] = current
                 changed = True
+            reached = reached and current == goal
         if changed or not self._motors_set:
             pb.setJointMotorControlArray(
                 self.body,
@@ -321,6 +330,7 @@ class LocomotionController:
                 physicsClientId=self.client,
             )
             self._motors_set = True
+        self._standing_at = head_goals if standing and reached else None
 
     def _play_stand_up(self, active: _ActiveMotion, now_s: float) -> None:
         """The matching stand-up moves the torso kinematically upright, then holds it there.

@@ -35,7 +35,8 @@ from scenarios.tools.world_demo import FORMATION, team_roster
 from world.camera_model import NAO_CAMERA, world_to_camera
 from world.field import Pose2D
 from world.motions import Motion
-from world.config import RENDERERS, RenderConfig, WorldConfig
+from world.camera_profiles import DEFAULT_CAMERA_PROFILE
+from world.config import RenderConfig, WorldConfig
 from world.raster.threads import parallel_cameras
 from world.world import World
 
@@ -130,34 +131,50 @@ def check_all_in_view(world: World, viewer: str, others: Sequence[str]) -> None:
         raise RuntimeError(f"render benchmark: robots outside {viewer}'s camera image: {'; '.join(outside)}")
 
 
+RENDER_VARIANTS: dict[str, tuple[str, str]] = {
+    "": ("numba", "clean"),
+    "_tiny": ("tiny", "clean"),
+    "_profiled": ("numba", DEFAULT_CAMERA_PROFILE),
+}
+"""The frames the render benchmarks time (key suffix -> renderer, camera profile): each renderer's image as
+drawn (the profile's pass is the same after either renderer, and timed on its own by
+:func:`bench_camera_profiles`), and the compiled renderer's image through the default camera profile,
+as a robot gets it."""
+
+
 def bench_render(repeats: int) -> dict[str, float]:
     """One 160x120 robot camera frame with all 8 robots in the scene and 7 of them in view, each from a
     new camera pose (:data:`RENDER_HEAD_YAWS_RAD`; the head's turn and the control step are not timed),
-    by the compiled renderer (``render``) and, in turns of :data:`RENDER_BLOCK` frames with it, by the
-    reference renderer, TinyRenderer with the analytic hall (``render_*_tiny``)."""
+    in turns of :data:`RENDER_BLOCK` frames: by the compiled renderer (``render``), by the reference
+    renderer, TinyRenderer with the analytic hall (``render_*_tiny``), and by the compiled renderer
+    through the default camera profile (``render_*_profiled``); see :data:`RENDER_VARIANTS`."""
     with _render_scenes() as worlds:
-        samples = {name: np.empty(repeats) for name in worlds}
-        for name, i in _turns(tuple(worlds), RENDER_WARMUP + repeats):
-            world = worlds[name]
+        samples = {suffix: np.empty(repeats) for suffix in worlds}
+        for suffix, i in _turns(tuple(worlds), RENDER_WARMUP + repeats):
+            world = worlds[suffix]
             world.set_head(RENDER_VIEWER, RENDER_HEAD_YAWS_RAD[i % len(RENDER_HEAD_YAWS_RAD)], SCAN_PITCH_RAD)
             world.step(1)
             start = time.perf_counter()
             world.render_camera(RENDER_VIEWER)
             if i >= RENDER_WARMUP:
-                samples[name][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
-    metrics = {**summarize("render", samples["numba"]), **_suffixed(summarize("render", samples["tiny"]), "_tiny")}
+                samples[suffix][i - RENDER_WARMUP] = (time.perf_counter() - start) * 1e3
+    metrics: dict[str, float] = {}
+    for suffix, values in samples.items():
+        metrics.update(_suffixed(summarize("render", values), suffix))
     metrics["render_tiny_over_numba_ratio"] = metrics["render_ms_median_tiny"] / metrics["render_ms_median"]
     return metrics
 
 
 @contextlib.contextmanager
 def _render_scenes() -> Iterator[dict[str, World]]:
-    """The scene of :func:`setup_render_scene` in a world of each renderer (name -> world), closed after."""
+    """The scene of :func:`setup_render_scene` in a world of each of :data:`RENDER_VARIANTS` (key suffix ->
+    world), closed after."""
     worlds: dict[str, World] = {}
     try:
-        for name in RENDERERS:
-            worlds[name] = World(team_roster(), WorldConfig(render=RenderConfig(renderer=name)))
-            setup_render_scene(worlds[name])
+        for suffix, (renderer, profile) in RENDER_VARIANTS.items():
+            worlds[suffix] = World(team_roster(), WorldConfig(render=RenderConfig(renderer=renderer),
+                                                              camera_profile=profile))
+            setup_render_scene(worlds[suffix])
         yield worlds
     finally:
         for world in worlds.values():
@@ -179,15 +196,16 @@ def _suffixed(metrics: dict[str, float], suffix: str) -> dict[str, float]:
 
 def bench_cameras(repeats: int) -> dict[str, float]:
     """Every robot's camera frame of one step (8 cameras, :meth:`World.render_cameras`) in the scene of
-    :func:`bench_render`, each step from new head angles, by the compiled renderer on numba's threads
-    (``cameras_per_step``), on one thread (``*_serial``) and by the reference renderer (``*_tiny``), in
-    turns of :data:`RENDER_BLOCK` steps."""
-    variants = {"": ("numba", True), "_serial": ("numba", False), "_tiny": ("tiny", None)}
+    :func:`bench_render`, each step from new head angles, in turns of :data:`RENDER_BLOCK` steps: by the
+    compiled renderer on numba's threads (``cameras_per_step``), on one thread (``*_serial``), by the
+    reference renderer (``*_tiny``), and on numba's threads through the default camera profile
+    (``*_profiled``)."""
+    variants = {"": ("", True), "_serial": ("", False), "_tiny": ("_tiny", None), "_profiled": ("_profiled", True)}
     with _render_scenes() as worlds:
         samples = {suffix: np.empty(repeats) for suffix in variants}
         for suffix, i in _turns(tuple(variants), RENDER_WARMUP + repeats):
-            name, parallel = variants[suffix]
-            world = worlds[name]
+            scene, parallel = variants[suffix]
+            world = worlds[scene]
             for robot in world.robot_ids:
                 world.set_head(robot, RENDER_HEAD_YAWS_RAD[i % len(RENDER_HEAD_YAWS_RAD)], SCAN_PITCH_RAD)
             world.step(1)
@@ -730,11 +748,13 @@ TABLE_STATS = ("median", "p90", "min")
 
 def format_table(results: dict) -> str:
     """The metrics of ``results`` as a plain-text table: timings (ms) first, then other numbers."""
-    names = [key.removesuffix("_ms_median") for key in results if key.endswith("_ms_median")]
     rows = [("benchmark", *(f"{stat} ms" for stat in TABLE_STATS))]
-    for name in names:
-        cells = [results.get(f"{name}_ms_{stat}") for stat in TABLE_STATS]
-        rows.append((name, *("-" if value is None else f"{value:.3f}" for value in cells)))
+    for key in results:
+        if "_ms_median" not in key:
+            continue
+        name, suffix = key.split("_ms_median", 1)  # a variant's figures end in its suffix: render_ms_median_tiny
+        cells = [results.get(f"{name}_ms_{stat}{suffix}") for stat in TABLE_STATS]
+        rows.append((name + suffix, *("-" if value is None else f"{value:.3f}" for value in cells)))
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
     lines = ["  ".join([row[0].ljust(widths[0]), *(c.rjust(w) for c, w in zip(row[1:], widths[1:]))]) for row in rows]
     lines.insert(1, "  ".join("-" * w for w in widths))
