@@ -12,6 +12,7 @@ On Linux (``prctl``):
   leaves) and dies with its parent, the server process that forked it.
 
 Elsewhere only the sessions are used: each function does what the system allows and nothing else.
+Everywhere a controller runs at a lower priority than the simulator (:data:`CONTROLLER_NICENESS`).
 """
 
 from __future__ import annotations
@@ -30,6 +31,10 @@ log = logging.getLogger(__name__)
 PR_SET_PDEATHSIG = 1
 PR_SET_DUMPABLE = 4
 PR_SET_CHILD_SUBREAPER = 36
+CONTROLLER_NICENESS = 5
+"""How much lower a controller's scheduling priority is than the simulator's. The simulator's step is a
+match's critical path: a controller waits for its observations anyway, and what it does after its
+answer (a policy's thinking over the step's frame) fills the processor time the simulator leaves."""
 
 
 def _prctl(option: int, value: int) -> bool:
@@ -50,10 +55,12 @@ def guard_simulator() -> None:
 
 
 def confine_controller() -> None:
-    """In a controller process, before its policies are built: a session of its own, not dumpable, and
-    killed when its parent ends."""
+    """In a controller process, before its policies are built: a session of its own, not dumpable, killed
+    when its parent ends, and :data:`CONTROLLER_NICENESS` below the simulator's priority."""
     with contextlib.suppress(OSError):
         os.setsid()
+    with contextlib.suppress(OSError):
+        os.nice(CONTROLLER_NICENESS)
     _prctl(PR_SET_DUMPABLE, 0)
     _prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL))
 
