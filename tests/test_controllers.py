@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from agents.policies import make_policy
+from match.confinement import CONTROLLER_NICENESS
 from match.controllers import ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
 from scenarios.matches.play import PRELOAD, Lineup, run_lineup_match
@@ -183,6 +184,17 @@ def test_a_controller_maps_only_its_own_robots_images_and_the_simulator_holds_no
             for agent in ("away_0", "away_1"):
                 image = images[agent]
                 assert decision.estimates[agent] == (image.flat[0] / 10.0, int(image.sum()) % 1000 / 100.0, 120.0)
+
+
+def test_a_controller_runs_below_the_simulators_priority() -> None:
+    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:ReportsPriority")}
+    with ProcessControllers(factories, ControllerLimits(group="robot")) as controllers:
+        decision = controllers.start({"home_0": 0})
+        assert not decision.faults
+        decision = controllers.decide({"home_0": {}})
+    niceness = os.getpriority(os.PRIO_PROCESS, 0)
+    assert decision.estimates["home_0"] == (float(min(niceness + CONTROLLER_NICENESS, 19)), 0.0, 0.0)
+    assert decision.estimates["home_0"][0] > niceness or niceness == 19  # lower priority than this process
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")

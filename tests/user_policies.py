@@ -138,6 +138,13 @@ class ImageProbe(Spinner):
         return self.seen
 
 
+class ReportsPriority(Spinner):
+    """Stands; reports its process's scheduling niceness as a pose estimate ``(niceness, 0, 0)`` (for the tests)."""
+
+    def pose_estimate(self) -> tuple[float, float, float]:
+        return (float(os.getpriority(os.PRIO_PROCESS, 0)), 0.0, 0.0)
+
+
 class Misbehaves(Spinner):
     """Each act, in turn: raises, raises SystemExit, returns garbage, returns an Action with a bad field
     (a head beyond its joint limits), returns a walk past the walk limits; reports a pose of two numbers."""
