@@ -32,9 +32,10 @@ PR_SET_PDEATHSIG = 1
 PR_SET_DUMPABLE = 4
 PR_SET_CHILD_SUBREAPER = 36
 CONTROLLER_NICENESS = 5
-"""How much lower a controller's scheduling priority is than the simulator's. The simulator's step is a
-match's critical path: a controller waits for its observations anyway, and what it does after its
-answer (a policy's thinking over the step's frame) fills the processor time the simulator leaves."""
+"""How much lower a controller's scheduling priority is than the simulator's (inherited by every process
+and thread a policy starts). Busy work a policy leaves running (threads, children) then takes the
+processor time the simulator leaves instead of slowing every robot's step; a policy that only answers
+its observations loses nothing, as it waits for them anyway."""
 
 
 def _prctl(option: int, value: int) -> bool:
