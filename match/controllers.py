@@ -65,7 +65,7 @@ from match.protocol.actions import Action, parse_action
 from match.protocol.policy import AgentReport, Policy, PoseTuple, Thinker, check_pose
 from match.reports import ReportReader
 from match.shared_images import SharedImages, receive_frames, unpack
-from world.process_memory import cpu_seconds, peak_resident_mb, resident_mb
+from world.process_memory import ProcessorClock, peak_resident_mb, resident_mb
 
 log = logging.getLogger(__name__)
 
@@ -400,6 +400,7 @@ class _Controller:
         self.answers_in_budget = 0  # on probation: answers within the budget in a row
         self.restarts = 0  # in this match
         self.images: SharedImages | None = None  # the image slots of its current process
+        self.clock: ProcessorClock | None = None  # its current process's processor time
 
     def launch(self) -> list[PolicyFault]:
         """Start the process and send it the reset (answered later)."""
@@ -414,6 +415,7 @@ class _Controller:
             child.close()
         self.process, self.conn, self.ready, self.busy = process, parent, False, False
         self.reader = AnswerReader(parent)
+        self.clock = ProcessorClock(process.pid)
         self.images = SharedImages(len(self.agents))
         try:
             self.images.hand_over(parent, process.pid)
@@ -427,16 +429,16 @@ class _Controller:
         self.closed_step = False
         self.busy = True
         self.asked_at = time.perf_counter()
-        self.asked_cpu_s = cpu_seconds(self.process.pid) if self.process is not None else None
+        self.asked_cpu_s = self.clock.seconds() if self.clock is not None else None
         assert self.images is not None
         return self._send(("act", self.sequence, self.images.pack(observations)))
 
     def starved(self, budget_s: float) -> bool:
         """Whether it has used less than ``budget_s`` of processor time since it was asked (False where the
         system does not say: then the wall clock alone counts)."""
-        if self.process is None or self.asked_cpu_s is None:
+        if self.clock is None or self.asked_cpu_s is None:
             return False
-        used = cpu_seconds(self.process.pid)
+        used = self.clock.seconds()
         return used is not None and used - self.asked_cpu_s < budget_s
 
     def receive(self, estimates: dict, reports: dict, budget_s: float) -> list[PolicyFault]:
@@ -544,6 +546,9 @@ class _Controller:
         if self.images is not None:
             self.images.close()
             self.images = None
+        if self.clock is not None:
+            self.clock.close()
+            self.clock = None
         self.process, self.conn, self.ready, self.busy, self.answer = None, None, False, False, None
         self.reader = None
         self.probation, self.answers_in_budget = True, 0  # a restarted controller starts on probation

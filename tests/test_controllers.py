@@ -6,6 +6,7 @@ import functools
 import json
 import os
 import signal
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -19,6 +20,7 @@ from match.controllers import ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
 from scenarios.matches.play import PRELOAD, Lineup, run_lineup_match
 from tests.user_policies import left_behind
+from world.process_memory import ProcessorClock, cpu_seconds
 
 pytestmark = pytest.mark.render
 
@@ -195,6 +197,29 @@ def test_a_controller_runs_below_the_simulators_priority() -> None:
     niceness = os.getpriority(os.PRIO_PROCESS, 0)
     assert decision.estimates["home_0"] == (float(min(niceness + CONTROLLER_NICENESS, 19)), 0.0, 0.0)
     assert decision.estimates["home_0"][0] > niceness or niceness == 19  # lower priority than this process
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")
+def test_a_processor_clock_reads_its_process_until_it_ends() -> None:
+    busy = subprocess.Popen([sys.executable, "-c", "import time\nend = time.process_time() + 0.3\n"
+                                                   "while time.process_time() < end: pass\ntime.sleep(60)"])
+    clock = ProcessorClock(busy.pid)
+    try:
+        first = clock.seconds()
+        deadline = time.monotonic() + 10.0
+        while (clock.seconds() or 0.0) < 0.3 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        used = clock.seconds()
+        assert first is not None and used is not None and 0.3 <= used < 1.0
+        assert used == pytest.approx(cpu_seconds(busy.pid), abs=0.02)  # the path's reading, from a descriptor
+        busy.kill()
+        busy.wait()
+        assert clock.seconds() is None  # gone: never another process that took its pid
+    finally:
+        busy.kill()
+        busy.wait()
+        clock.close()
+    clock.close()  # twice: nothing more
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")
