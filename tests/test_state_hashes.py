@@ -12,6 +12,10 @@ write it again with that command, and say why in the commit.
 
 from __future__ import annotations
 
+import os
+import platform
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -32,6 +36,24 @@ def test_a_seeded_match_steps_through_the_recorded_states(tmp_path: Path) -> Non
     first = next((i for i, (a, b) in enumerate(zip(played, recorded)) if a != b), None)
     assert first is None, f"the world first differs before step {played[first].split()[0]} (see {FIXTURE.name})"
     assert len(played) == len(recorded)
+
+
+WITHOUT_AVX512 = "glibc.cpu.hwcaps=-AVX512F,-AVX512DQ,-AVX512BW,-AVX512VL,-AVX512CD"
+"""The C library's settings of a processor without AVX-512: its maths and memory functions take the
+variants such a processor runs (numpy's kernels are capped and its BLAS's pinned by ``world`` alike)."""
+
+
+@pytest.mark.skipif(not (sys.platform.startswith("linux") and platform.machine() == "x86_64"),
+                    reason="the C library's processor variants are chosen on x86-64 Linux")
+def test_the_c_librarys_variants_for_a_processor_without_avx512_step_through_the_same_states(tmp_path: Path) -> None:
+    command = [sys.executable, "-c", "import sys; from scenarios.launch import main; sys.exit(main())",
+               "match", "--home", "scripted", "--away", "scripted", "--half-seconds", "15", "--seed", "0",
+               "--no-shootout", "--no-replay", "--in-process", "--state-hashes", "--out", str(tmp_path / "run")]
+    environment = {**os.environ, "GLIBC_TUNABLES": WITHOUT_AVX512}
+    subprocess.run(command, env=environment, check=True, capture_output=True, timeout=600,
+                   cwd=Path(__file__).parent.parent)
+    played = (tmp_path / "run" / STATE_HASHES).read_text(encoding="ascii")
+    assert played == FIXTURE.read_text(encoding="ascii")
 
 
 def test_state_hashes_need_an_output_directory() -> None:
