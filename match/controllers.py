@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 from multiprocessing.connection import Connection, wait
 from typing import Any, Protocol
 
+import cv2
 import numpy as np
 
 from match.answers import Answer, AnswerReader, AnswerRefused
@@ -571,13 +572,21 @@ class _Controller:
 # ---- the controller process ---------------------------------------------------------------
 
 
+CONTROLLER_OPENCV_THREADS = 1
+"""OpenCV's threads in a controller process: its own. A policy's image calls are small (a 160x120 frame's
+blobs), and OpenCV's pool, one thread per core, spent more processor time handing them out than it
+saved, time taken from the simulator and the other team; the results are the same."""
+
+
 def serve(conn: Connection, factories: Mapping[str, PolicyFactory]) -> None:
-    """A controller process's loop: confine itself (:func:`~match.confinement.confine_controller`), take its
-    image slots (:func:`~match.shared_images.receive_frames`), build the policies, then answer resets and
-    steps until told to close, or until the simulator's end of ``conn`` is closed (it stopped, or was
-    stopped, without a word): then it ends quietly."""
+    """A controller process's loop: confine itself (:func:`~match.confinement.confine_controller`), keep
+    OpenCV to its own thread (:data:`CONTROLLER_OPENCV_THREADS`), take its image slots
+    (:func:`~match.shared_images.receive_frames`), build the policies, then answer resets and steps until
+    told to close, or until the simulator's end of ``conn`` is closed (it stopped, or was stopped, without
+    a word): then it ends quietly."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the simulator's to handle
     confine_controller()
+    cv2.setNumThreads(CONTROLLER_OPENCV_THREADS)
     try:
         frames = receive_frames(conn)
         _answer(conn, factories, frames)

@@ -11,12 +11,13 @@ import sys
 import time
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pytest
 
 from agents.policies import make_policy
 from match.confinement import CONTROLLER_NICENESS
-from match.controllers import ControllerLimits, ProcessControllers
+from match.controllers import CONTROLLER_OPENCV_THREADS, ControllerLimits, ProcessControllers
 from match.errors import MatchConfigError
 from scenarios.matches.play import PRELOAD, Lineup, run_lineup_match
 from tests.user_policies import left_behind
@@ -197,6 +198,31 @@ def test_a_controller_runs_below_the_simulators_priority() -> None:
     niceness = os.getpriority(os.PRIO_PROCESS, 0)
     assert decision.estimates["home_0"] == (float(min(niceness + CONTROLLER_NICENESS, 19)), 0.0, 0.0)
     assert decision.estimates["home_0"][0] > niceness or niceness == 19  # lower priority than this process
+
+
+def test_a_controller_keeps_opencv_to_its_own_thread() -> None:
+    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:ReportsOpenCVThreads")}
+    with ProcessControllers(factories, ControllerLimits(group="robot")) as controllers:
+        assert not controllers.start({"home_0": 0}).faults
+        decision = controllers.decide({"home_0": {}})
+    assert decision.estimates["home_0"] == (float(CONTROLLER_OPENCV_THREADS), 0.0, 0.0)
+
+
+def test_opencvs_blobs_are_the_same_on_one_thread_as_on_its_pool() -> None:
+    rng = np.random.default_rng(7)
+    masks = [(rng.random((120, 160)) < density).astype(np.uint8) for density in (0.02, 0.2, 0.5, 0.8)]
+    threads = cv2.getNumThreads()
+    try:
+        cv2.setNumThreads(max(2, threads))
+        pooled = [cv2.connectedComponentsWithStats(mask, connectivity=8) for mask in masks]
+        cv2.setNumThreads(1)
+        alone = [cv2.connectedComponentsWithStats(mask, connectivity=8) for mask in masks]
+    finally:
+        cv2.setNumThreads(threads)
+    for (count, labels, stats, centroids), (count_1, labels_1, stats_1, centroids_1) in zip(pooled, alone):
+        assert count == count_1
+        assert np.array_equal(labels, labels_1) and np.array_equal(stats, stats_1)
+        assert np.array_equal(centroids, centroids_1)
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="processes are found in /proc")

@@ -145,6 +145,15 @@ class ReportsPriority(Spinner):
         return (float(os.getpriority(os.PRIO_PROCESS, 0)), 0.0, 0.0)
 
 
+class ReportsOpenCVThreads(Spinner):
+    """Stands; reports OpenCV's thread count in its process as a pose estimate ``(threads, 0, 0)`` (for the tests)."""
+
+    def pose_estimate(self) -> tuple[float, float, float]:
+        import cv2
+
+        return (float(cv2.getNumThreads()), 0.0, 0.0)
+
+
 class Misbehaves(Spinner):
     """Each act, in turn: raises, raises SystemExit, returns garbage, returns an Action with a bad field
     (a head beyond its joint limits), returns a walk past the walk limits; reports a pose of two numbers."""
