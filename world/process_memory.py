@@ -53,8 +53,8 @@ def cpu_seconds(pid: int) -> float | None:
 class ProcessorClock:
     """The processor time of process ``pid``'s main thread, as :func:`cpu_seconds` reads it, from a
     descriptor opened once: a read costs a system call instead of a path lookup, and a clock never reads
-    another process that reused the pid. Falls back to :func:`cpu_seconds` where ``schedstat`` cannot be
-    opened; :meth:`close` (or the process's end, after which it reads None) releases it."""
+    another process that reused the pid (once the process is gone it reads None). Falls back to
+    :func:`cpu_seconds` where ``schedstat`` cannot be opened; :meth:`close` releases the descriptor."""
 
     def __init__(self, pid: int):
         self.pid = pid
