@@ -189,23 +189,23 @@ def test_a_controller_maps_only_its_own_robots_images_and_the_simulator_holds_no
                 assert decision.estimates[agent] == (image.flat[0] / 10.0, int(image.sum()) % 1000 / 100.0, 120.0)
 
 
-def test_a_controller_runs_below_the_simulators_priority() -> None:
-    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:ReportsPriority")}
+def _estimate_in_a_controller(policy: str) -> object:
+    """The pose estimate ``policy`` (of tests.user_policies) reports after one step in a controller process."""
+    factories = {"home_0": functools.partial(make_policy, f"tests.user_policies:{policy}")}
     with ProcessControllers(factories, ControllerLimits(group="robot")) as controllers:
-        decision = controllers.start({"home_0": 0})
-        assert not decision.faults
-        decision = controllers.decide({"home_0": {}})
+        assert not controllers.start({"home_0": 0}).faults
+        return controllers.decide({"home_0": {}}).estimates["home_0"]
+
+
+def test_a_controller_runs_below_the_simulators_priority() -> None:
+    estimate = _estimate_in_a_controller("ReportsPriority")
     niceness = os.getpriority(os.PRIO_PROCESS, 0)
-    assert decision.estimates["home_0"] == (float(min(niceness + CONTROLLER_NICENESS, 19)), 0.0, 0.0)
-    assert decision.estimates["home_0"][0] > niceness or niceness == 19  # lower priority than this process
+    assert estimate == (float(min(niceness + CONTROLLER_NICENESS, 19)), 0.0, 0.0)
+    assert estimate[0] > niceness or niceness == 19  # lower priority than this process
 
 
 def test_a_controller_keeps_opencv_to_its_own_thread() -> None:
-    factories = {"home_0": functools.partial(make_policy, "tests.user_policies:ReportsOpenCVThreads")}
-    with ProcessControllers(factories, ControllerLimits(group="robot")) as controllers:
-        assert not controllers.start({"home_0": 0}).faults
-        decision = controllers.decide({"home_0": {}})
-    assert decision.estimates["home_0"] == (float(CONTROLLER_OPENCV_THREADS), 0.0, 0.0)
+    assert _estimate_in_a_controller("ReportsOpenCVThreads") == (float(CONTROLLER_OPENCV_THREADS), 0.0, 0.0)
 
 
 def test_opencvs_blobs_are_the_same_on_one_thread_as_on_its_pool() -> None:

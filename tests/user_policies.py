@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import time
 
+import cv2
 import numpy as np
 
 from agents.radio import TeamMessage
@@ -149,8 +150,6 @@ class ReportsOpenCVThreads(Spinner):
     """Stands; reports OpenCV's thread count in its process as a pose estimate ``(threads, 0, 0)`` (for the tests)."""
 
     def pose_estimate(self) -> tuple[float, float, float]:
-        import cv2
-
         return (float(cv2.getNumThreads()), 0.0, 0.0)
 
 

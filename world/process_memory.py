@@ -40,7 +40,7 @@ def cpu_seconds(pid: int) -> float | None:
     system does not say."""
     try:
         with open(f"/proc/{pid}/schedstat", "rb") as schedstat:
-            return int(schedstat.read().split()[0]) / 1e9
+            return _schedstat_seconds(schedstat.read())
     except (OSError, ValueError, IndexError):
         pass
     fields = stat_fields(pid)
@@ -48,6 +48,11 @@ def cpu_seconds(pid: int) -> float | None:
         return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS_PER_S if fields else None
     except (ValueError, IndexError):
         return None
+
+
+def _schedstat_seconds(schedstat: bytes) -> float:
+    """The processor time (s) in the text of ``/proc/PID/schedstat`` (its first field, in nanoseconds)."""
+    return int(schedstat.split()[0]) / 1e9
 
 
 class ProcessorClock:
@@ -69,7 +74,7 @@ class ProcessorClock:
         if self._fd is None:
             return cpu_seconds(self.pid)
         try:
-            return int(os.pread(self._fd, 128, 0).split()[0]) / 1e9
+            return _schedstat_seconds(os.pread(self._fd, 128, 0))
         except (OSError, ValueError, IndexError):
             return None
 
