@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml Makefile
 	$(PY) -m pip install --upgrade pip
 	$(PY) -m pip install -e '.[test,ray,browser,learn,docs]'
 	$(PY) -m world.raster.compile
-	$(PY) -m agents.vision.compile
+	$(PY) -m agents.compile
 	touch $@
 
 test: install

@@ -19,6 +19,7 @@ import numpy as np
 
 from agents.localization.constraint import wrap
 from agents.localization.disambiguation import unique_landmark
+from agents.localization.kernels import percept_log_likelihoods
 from agents.vision.percepts import LandmarkPercept
 from world.field import FIELD, FieldGeometry, Landmark, LandmarkKind
 
@@ -77,10 +78,10 @@ class ScanLikelihood:
 
     def percept_log_likelihood(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """(N, M) log-likelihood of each percept: best landmark of its set, mixed with outliers."""
-        pairs = self.pair_log_likelihood(np.atleast_1d(x), np.atleast_1d(y), np.atleast_1d(theta))
-        best = np.maximum.reduceat(pairs, self.starts, axis=1)
-        eps = self.config.outlier_probability
-        return np.log((1.0 - eps) * np.exp(best) + eps)
+        x, y, theta = (np.ascontiguousarray(np.atleast_1d(v), float) for v in (x, y, theta))
+        return percept_log_likelihoods(x, y, theta, self.lx, self.ly, self.owner, self.starts, self.distance,
+                                       self.sigma_d, self.bearing, float(self.sigma_b),
+                                       float(self.config.outlier_probability))
 
     def log_likelihood(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """(N,) log-likelihood of the whole scan at each pose; zeros when the scan is empty."""

@@ -39,6 +39,7 @@ import numpy as np
 from agents.localization.constraint import FIELD_MARGIN_M, wrap
 from agents.localization.errors import LocalizationConfigError
 from agents.localization.estimate import Covariance, EstimateSource, PoseEstimate
+from agents.localization.kernels import moved_particles, near_seeds
 from agents.localization.measurement import MeasurementConfig, ScanLikelihood
 from agents.localization.odometry import compose
 from agents.localization.refine import refine
@@ -228,11 +229,8 @@ class ParticleLocalizer:
             d.turn_rad * (1.0 + m.scale_sigma * noise[4])
             + (m.heading_sigma_rad_per_m * walked + m.heading_sigma_rad * active) * noise[5]
         )
-        c, s = np.cos(self.th), np.sin(self.th)
-        self.x = self.x + c * forward - s * left
-        self.y = self.y + s * forward + c * left
-        self.th = wrap(self.th + turn)
-        self._clip_to_carpet()
+        self.x, self.y, self.th = moved_particles(self.x, self.y, self.th, forward, left, turn,
+                                                  self.field.carpet_half_length, self.field.carpet_half_width)
         if self._pose is not None:
             self._pose = compose(self._pose, d)
 
@@ -361,9 +359,7 @@ class ParticleLocalizer:
         """Mask of the particles near whichever of the most likely few carries the most weight around it."""
         cfg = self.config
         seeds = np.argsort(weights)[-CLUSTER_SEEDS:]
-        near = (
-            np.hypot(self.x[None, :] - self.x[seeds, None], self.y[None, :] - self.y[seeds, None]) <= cfg.cluster_radius_m
-        ) & (np.abs(wrap(self.th[None, :] - self.th[seeds, None])) <= cfg.cluster_angle_rad)
+        near = near_seeds(self.x, self.y, self.th, seeds, cfg.cluster_radius_m, cfg.cluster_angle_rad)
         return near[int(np.argmax(near @ weights))]
 
     def _prefer(self, scan: ScanLikelihood, percepts: Sequence[LandmarkPercept], seed: Pose2D) -> Pose2D:

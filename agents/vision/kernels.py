@@ -1,7 +1,7 @@
 """The per-pixel passes of the vision in compiled code (numba): the segmentation of a frame.
 
 They compute exactly what the array formulations they replace computed (tests compare them with
-pixel-by-pixel references); ``python -m agents.vision.compile`` (run by ``make install``) puts
+pixel-by-pixel references); ``python -m agents.compile`` (run by ``make install``) puts
 their machine code in numba's cache, so no controller process compiles them.
 """
 

@@ -1,0 +1,78 @@
+"""The per-particle arithmetic of the particle filter in compiled code (numba).
+
+Each function computes, element by element, what the numpy expression it replaces computed, in
+the same order of operations and with the same C library functions (``hypot``, ``atan2``,
+``exp``, ``log``, ``sin``, ``cos``, ``fmod``-based ``mod``), so the particles and estimates are
+the same to the bit (tests compare them with the numpy formulations). Sums and products of
+whole arrays stay in numpy, whose summation order they would otherwise change. ``python -m
+agents.compile`` (run by ``make install``) puts their machine code in numba's cache.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+TWO_PI = 2.0 * np.pi
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def wrap_angle(angle: float) -> float:
+    """``angle`` (rad) wrapped into (-pi, pi] as :func:`agents.localization.constraint.wrap` does it."""
+    return np.pi - np.mod(np.pi - angle, TWO_PI)
+
+
+@numba.njit(cache=True, nogil=True)
+def percept_log_likelihoods(x: np.ndarray, y: np.ndarray, theta: np.ndarray, lx: np.ndarray, ly: np.ndarray,
+                            owner: np.ndarray, starts: np.ndarray, distance: np.ndarray, sigma_d: np.ndarray,
+                            bearing: np.ndarray, sigma_b: float, outlier: float) -> np.ndarray:
+    """(N, M) log-likelihood of each of M percepts at N poses (x, y m; theta rad): the best of its
+    landmark pairs ``starts[m]`` up to the next start (pair ``p``: landmark at (``lx[p]``, ``ly[p]``) m,
+    percept ``owner[p]``) of the Gaussian in distance and bearing, mixed with ``outlier`` (see
+    :class:`agents.localization.measurement.ScanLikelihood`)."""
+    n, pairs, percepts = x.shape[0], lx.shape[0], starts.shape[0]
+    out = np.empty((n, percepts))
+    keep = 1.0 - outlier
+    for i in range(n):
+        for m in range(percepts):
+            stop = starts[m + 1] if m + 1 < percepts else pairs
+            best = 0.0
+            for p in range(starts[m], stop):
+                dx, dy = lx[p] - x[i], ly[p] - y[i]
+                k = owner[p]
+                e_d = (np.hypot(dx, dy) - distance[k]) / sigma_d[k]
+                e_b = wrap_angle(np.arctan2(dy, dx) - theta[i] - bearing[k]) / sigma_b
+                value = -0.5 * (e_d * e_d + e_b * e_b)
+                # np.maximum's choice, NaN kept
+                best = value if p == starts[m] or not (best >= value or best != best) else best
+            out[i, m] = np.log(keep * np.exp(best) + outlier)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def near_seeds(x: np.ndarray, y: np.ndarray, theta: np.ndarray, seeds: np.ndarray, radius_m: float,
+               angle_rad: float) -> np.ndarray:
+    """(S, N) whether each of N particles lies within ``radius_m`` and ``angle_rad`` of each seed particle
+    (indices ``seeds``)."""
+    out = np.empty((seeds.shape[0], x.shape[0]), np.bool_)
+    for s in range(seeds.shape[0]):
+        sx, sy, st = x[seeds[s]], y[seeds[s]], theta[seeds[s]]
+        for i in range(x.shape[0]):
+            out[s, i] = np.hypot(x[i] - sx, y[i] - sy) <= radius_m and abs(wrap_angle(theta[i] - st)) <= angle_rad
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def moved_particles(x: np.ndarray, y: np.ndarray, theta: np.ndarray, forward: np.ndarray, left: np.ndarray,
+                    turn: np.ndarray, half_length_m: float, half_width_m: float
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """New particles (x, y m; theta rad) moved by each one's ``forward``, ``left`` (m, robot frame) and
+    ``turn`` (rad), clipped to the carpet (|x| <= ``half_length_m``, |y| <= ``half_width_m``)."""
+    n = x.shape[0]
+    new_x, new_y, new_theta = np.empty(n), np.empty(n), np.empty(n)
+    for i in range(n):
+        c, s = np.cos(theta[i]), np.sin(theta[i])
+        new_x[i] = min(max(x[i] + c * forward[i] - s * left[i], -half_length_m), half_length_m)
+        new_y[i] = min(max(y[i] + s * forward[i] + c * left[i], -half_width_m), half_width_m)
+        new_theta[i] = wrap_angle(theta[i] + turn[i])
+    return new_x, new_y, new_theta
