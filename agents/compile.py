@@ -16,6 +16,8 @@ import numpy as np
 def compile_agents() -> float:
     """Run every kernel of the vision and the localization once, on a frame of field and line and a
     scan of one landmark; return the seconds it took."""
+    from agents.localization.kernels import pose_residuals
+    from agents.localization.measurement import MeasurementConfig, ScanLikelihood
     from agents.localization.particle import ParticleLocalizer
     from agents.vision.border import find_border
     from agents.vision.colors import ColorClass
@@ -37,6 +39,10 @@ def compile_agents() -> float:
     corner = LandmarkPercept(LandmarkKind.L_CORNER, (80.0, 90.0), 0.3, 1.5, "exact")
     for _ in range(2):  # the first scan of a cloud that knows its pose, then one more: every path of an update
         localizer.localize([corner, replace(corner, bearing_rad=-0.4)])
+    scan = ScanLikelihood([corner], MeasurementConfig())
+    scan.associate(0.0, 0.0, 0.0)
+    pose_residuals(0.0, 0.0, 0.0, scan.lx, scan.ly, scan.distance[scan.owner], scan.bearing[scan.owner],
+                   scan.sigma_d[scan.owner], float(scan.sigma_b))
     return time.perf_counter() - started
 
 

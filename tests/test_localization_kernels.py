@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from agents.localization.constraint import wrap
-from agents.localization.kernels import moved_particles, near_seeds, percept_log_likelihoods
+from agents.localization.kernels import moved_particles, near_seeds, percept_log_likelihoods, pose_residuals
 from agents.localization.measurement import MeasurementConfig, ScanLikelihood
 from agents.localization.particle import ParticleLocalizer
 from agents.vision.percepts import LandmarkPercept
@@ -22,9 +22,18 @@ def _same_bits(a: np.ndarray, b: np.ndarray) -> bool:
     return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
 
 
+def _reference_pair_log_likelihood(scan: ScanLikelihood, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """The numpy formulation the kernel replaced."""
+    dx = scan.lx[None, :] - x[:, None]
+    dy = scan.ly[None, :] - y[:, None]
+    e_d = (np.hypot(dx, dy) - scan.distance[scan.owner]) / scan.sigma_d[scan.owner]
+    e_b = wrap(np.arctan2(dy, dx) - theta[:, None] - scan.bearing[scan.owner]) / scan.sigma_b
+    return -0.5 * (e_d * e_d + e_b * e_b)
+
+
 def _reference_percept_log_likelihood(scan: ScanLikelihood, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """The numpy formulation the kernel replaced."""
-    pairs = scan.pair_log_likelihood(x, y, theta)
+    pairs = _reference_pair_log_likelihood(scan, x, y, theta)
     best = np.maximum.reduceat(pairs, scan.starts, axis=1)
     eps = scan.config.outlier_probability
     return np.log((1.0 - eps) * np.exp(best) + eps)
@@ -54,6 +63,7 @@ def test_percept_log_likelihoods_are_the_numpy_ones(name: str) -> None:
     y = rng.uniform(-4.0, 4.0, n)
     theta = rng.uniform(-4.0 * math.pi, 4.0 * math.pi, n)  # also angles far outside (-pi, pi]
     x[:3], y[:3] = scan.lx[:3], scan.ly[:3]  # standing on a landmark: distance 0, bearing atan2(0, 0)
+    assert _same_bits(scan.pair_log_likelihood(x, y, theta), _reference_pair_log_likelihood(scan, x, y, theta))
     got = scan.percept_log_likelihood(x, y, theta)
     assert _same_bits(got, _reference_percept_log_likelihood(scan, x, y, theta))
     assert _same_bits(scan.log_likelihood(x, y, theta), _reference_percept_log_likelihood(scan, x, y, theta).sum(axis=1))
@@ -93,6 +103,30 @@ def test_moved_particles_are_the_numpy_ones() -> None:
     got = moved_particles(x, y, theta, forward, left, turn, half_length, half_width)
     assert all(_same_bits(a, b) for a, b in zip(got, reference))
     assert (np.abs(reference[0]) == half_length).any()  # some were clipped
+
+
+def _reference_residuals(pose, lx, ly, d, b, sd, sb):
+    """The numpy formulation :func:`pose_residuals` replaced."""
+    dx, dy = lx - pose[0], ly - pose[1]
+    r2 = np.maximum(dx * dx + dy * dy, 1e-12)
+    r = np.sqrt(r2)
+    res = np.concatenate([(r - d) / sd, wrap(np.arctan2(dy, dx) - pose[2] - b) / sb])
+    jac_d = np.stack([-dx / r, -dy / r, np.zeros_like(r)], axis=1) / sd[:, None]
+    jac_b = np.stack([dy / r2, -dx / r2, -np.ones_like(r)], axis=1) / sb
+    return res, np.concatenate([jac_d, jac_b])
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_pose_residuals_are_the_numpy_ones(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    k = 1 + seed * 3
+    lx, ly = rng.uniform(-4.5, 4.5, k), rng.uniform(-3.0, 3.0, k)
+    d, b = rng.uniform(0.2, 6.0, k), rng.uniform(-math.pi, math.pi, k)
+    sd, sb = 0.05 + 0.08 * d, math.radians(4.0)
+    pose = np.array([rng.uniform(-4.5, 4.5), rng.uniform(-3.0, 3.0), rng.uniform(-7.0, 7.0)])
+    lx[0], ly[0] = pose[0], pose[1]  # a landmark under the robot: the 1e-12 floor of r^2
+    got = pose_residuals(*pose.tolist(), lx, ly, d, b, sd, sb)
+    assert all(_same_bits(a, e) for a, e in zip(got, _reference_residuals(pose, lx, ly, d, b, sd, sb)))
 
 
 PINNED_ESTIMATES = ((0.9237712211132788, 0.859635503576071, -0.13188407215438938),

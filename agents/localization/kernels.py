@@ -22,6 +22,32 @@ def wrap_angle(angle: float) -> float:
     return np.pi - np.mod(np.pi - angle, TWO_PI)
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pair_log_likelihood(x: float, y: float, theta: float, landmark_x: float, landmark_y: float, distance: float,
+                         sigma_d: float, bearing: float, sigma_b: float) -> float:
+    """The Gaussian log-likelihood (without constants) of a percept (``distance`` m, ``bearing`` rad) showing
+    the landmark at (``landmark_x``, ``landmark_y``) m, seen from the pose (x, y m; theta rad)."""
+    dx, dy = landmark_x - x, landmark_y - y
+    e_d = (np.hypot(dx, dy) - distance) / sigma_d
+    e_b = wrap_angle(np.arctan2(dy, dx) - theta - bearing) / sigma_b
+    return -0.5 * (e_d * e_d + e_b * e_b)
+
+
+@numba.njit(cache=True, nogil=True)
+def pair_log_likelihoods(x: np.ndarray, y: np.ndarray, theta: np.ndarray, lx: np.ndarray, ly: np.ndarray,
+                         owner: np.ndarray, distance: np.ndarray, sigma_d: np.ndarray, bearing: np.ndarray,
+                         sigma_b: float) -> np.ndarray:
+    """(N, P) :func:`_pair_log_likelihood` of each pair ``p`` (landmark at (``lx[p]``, ``ly[p]``) m, percept
+    ``owner[p]``) at N poses (x, y m; theta rad)."""
+    out = np.empty((x.shape[0], lx.shape[0]))
+    for i in range(x.shape[0]):
+        for p in range(lx.shape[0]):
+            k = owner[p]
+            out[i, p] = _pair_log_likelihood(x[i], y[i], theta[i], lx[p], ly[p], distance[k], sigma_d[k], bearing[k],
+                                             sigma_b)
+    return out
+
+
 @numba.njit(cache=True, nogil=True)
 def percept_log_likelihoods(x: np.ndarray, y: np.ndarray, theta: np.ndarray, lx: np.ndarray, ly: np.ndarray,
                             owner: np.ndarray, starts: np.ndarray, distance: np.ndarray, sigma_d: np.ndarray,
@@ -38,11 +64,9 @@ def percept_log_likelihoods(x: np.ndarray, y: np.ndarray, theta: np.ndarray, lx:
             stop = starts[m + 1] if m + 1 < percepts else pairs
             best = 0.0
             for p in range(starts[m], stop):
-                dx, dy = lx[p] - x[i], ly[p] - y[i]
                 k = owner[p]
-                e_d = (np.hypot(dx, dy) - distance[k]) / sigma_d[k]
-                e_b = wrap_angle(np.arctan2(dy, dx) - theta[i] - bearing[k]) / sigma_b
-                value = -0.5 * (e_d * e_d + e_b * e_b)
+                value = _pair_log_likelihood(x[i], y[i], theta[i], lx[p], ly[p], distance[k], sigma_d[k], bearing[k],
+                                             sigma_b)
                 # np.maximum's choice, NaN kept
                 best = value if p == starts[m] or not (best >= value or best != best) else best
             out[i, m] = np.log(keep * np.exp(best) + outlier)
@@ -76,3 +100,24 @@ def moved_particles(x: np.ndarray, y: np.ndarray, theta: np.ndarray, forward: np
         new_y[i] = min(max(y[i] + s * forward[i] + c * left[i], -half_width_m), half_width_m)
         new_theta[i] = wrap_angle(theta[i] + turn[i])
     return new_x, new_y, new_theta
+
+
+@numba.njit(cache=True, nogil=True)
+def pose_residuals(x: float, y: float, theta: float, lx: np.ndarray, ly: np.ndarray, distance: np.ndarray,
+                   bearing: np.ndarray, sigma_d: np.ndarray, sigma_b: float) -> tuple[np.ndarray, np.ndarray]:
+    """The weighted residuals (2K,) of K percepts (``distance`` m, ``bearing`` rad, sigmas) of the landmarks
+    at (``lx``, ``ly``) m at the pose (x, y m; theta rad), distances first, and their Jacobian (2K, 3) in
+    (x, y, theta) (see :mod:`agents.localization.refine`)."""
+    k = lx.shape[0]
+    residuals = np.empty(2 * k)
+    jacobian = np.empty((2 * k, 3))
+    for i in range(k):
+        dx, dy = lx[i] - x, ly[i] - y
+        squared = dx * dx + dy * dy
+        r2 = squared if squared >= 1e-12 or squared != squared else 1e-12  # np.maximum, NaN kept
+        r = np.sqrt(r2)
+        residuals[i] = (r - distance[i]) / sigma_d[i]
+        residuals[k + i] = wrap_angle(np.arctan2(dy, dx) - theta - bearing[i]) / sigma_b
+        jacobian[i, 0], jacobian[i, 1], jacobian[i, 2] = (-dx / r) / sigma_d[i], (-dy / r) / sigma_d[i], 0.0 / sigma_d[i]
+        jacobian[k + i, 0], jacobian[k + i, 1], jacobian[k + i, 2] = (dy / r2) / sigma_b, (-dx / r2) / sigma_b, -1.0 / sigma_b
+    return residuals, jacobian

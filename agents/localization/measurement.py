@@ -17,9 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from agents.localization.constraint import wrap
 from agents.localization.disambiguation import unique_landmark
-from agents.localization.kernels import percept_log_likelihoods
+from agents.localization.kernels import pair_log_likelihoods, percept_log_likelihoods
 from agents.vision.percepts import LandmarkPercept
 from world.field import FIELD, FieldGeometry, Landmark, LandmarkKind
 
@@ -70,11 +69,9 @@ class ScanLikelihood:
 
     def pair_log_likelihood(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """(N, P) Gaussian log-likelihood (without constants) of each (percept, possible landmark) pair."""
-        dx = self.lx[None, :] - x[:, None]
-        dy = self.ly[None, :] - y[:, None]
-        e_d = (np.hypot(dx, dy) - self.distance[self.owner]) / self.sigma_d[self.owner]
-        e_b = wrap(np.arctan2(dy, dx) - theta[:, None] - self.bearing[self.owner]) / self.sigma_b
-        return -0.5 * (e_d * e_d + e_b * e_b)
+        x, y, theta = (np.ascontiguousarray(np.atleast_1d(v), float) for v in (x, y, theta))
+        return pair_log_likelihoods(x, y, theta, self.lx, self.ly, self.owner, self.distance, self.sigma_d,
+                                    self.bearing, float(self.sigma_b))
 
     def percept_log_likelihood(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """(N, M) log-likelihood of each percept: best landmark of its set, mixed with outliers."""

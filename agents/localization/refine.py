@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from agents.localization.constraint import wrap
 from agents.localization.estimate import Covariance
+from agents.localization.kernels import pose_residuals
 from agents.localization.measurement import ScanLikelihood
 from world.field import Landmark, LandmarkId, Pose2D, normalize_angle
 
@@ -42,13 +42,9 @@ class Refinement:
 
 
 def _residuals(pose: np.ndarray, lx, ly, d, b, sd, sb) -> tuple[np.ndarray, np.ndarray]:
-    dx, dy = lx - pose[0], ly - pose[1]
-    r2 = np.maximum(dx * dx + dy * dy, 1e-12)
-    r = np.sqrt(r2)
-    res = np.concatenate([(r - d) / sd, wrap(np.arctan2(dy, dx) - pose[2] - b) / sb])
-    jac_d = np.stack([-dx / r, -dy / r, np.zeros_like(r)], axis=1) / sd[:, None]
-    jac_b = np.stack([dy / r2, -dx / r2, -np.ones_like(r)], axis=1) / sb
-    return res, np.concatenate([jac_d, jac_b])
+    """The weighted residuals and their Jacobian at ``pose`` (x m, y m, theta rad)
+    (:func:`agents.localization.kernels.pose_residuals`)."""
+    return pose_residuals(float(pose[0]), float(pose[1]), float(pose[2]), lx, ly, d, b, sd, float(sb))
 
 
 def _well_posed(normal: np.ndarray) -> bool:
@@ -65,8 +61,8 @@ def refine(scan: ScanLikelihood, start: Pose2D) -> Refinement | None:
     if len({landmark.id for _, landmark in chosen}) < MIN_LANDMARKS:
         return None
     idx = np.array([m for m, _ in chosen])
-    lx = np.array([lm.x for _, lm in chosen])
-    ly = np.array([lm.y for _, lm in chosen])
+    lx = np.array([lm.x for _, lm in chosen], float)
+    ly = np.array([lm.y for _, lm in chosen], float)
     d, b, sd = scan.distance[idx], scan.bearing[idx], scan.sigma_d[idx]
     sb = scan.sigma_b
     pose = np.array([start.x, start.y, start.theta], float)
