@@ -6,11 +6,18 @@ from __future__ import annotations
 import hashlib
 import math
 
+import numba
 import numpy as np
 import pytest
 
 from agents.localization.constraint import wrap
-from agents.localization.kernels import moved_particles, near_seeds, percept_log_likelihoods, pose_residuals
+from agents.localization.kernels import (
+    moved_particles,
+    near_seeds,
+    percept_log_likelihoods,
+    pose_residuals,
+    wrap_angle,
+)
 from agents.localization.measurement import MeasurementConfig, ScanLikelihood
 from agents.localization.particle import ParticleLocalizer
 from agents.vision.percepts import LandmarkPercept
@@ -20,6 +27,23 @@ from world.field import FIELD, GoalColor, LandmarkKind, Pose2D
 
 def _same_bits(a: np.ndarray, b: np.ndarray) -> bool:
     return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+@numba.njit
+def _wrapped(angles: np.ndarray) -> np.ndarray:
+    out = np.empty_like(angles)
+    for i in range(angles.size):
+        out[i] = wrap_angle(angles[i])
+    return out
+
+
+def test_wrap_angle_is_numpys_wrap_to_the_bit() -> None:
+    rng = np.random.default_rng(0)
+    edges = [0.0, -0.0, math.pi, -math.pi, 3 * math.pi, -3 * math.pi, 2 * math.pi, np.nextafter(math.pi, 0.0),
+             np.nextafter(-math.pi, 0.0), np.nextafter(3 * math.pi, 10.0), 1e-300, np.inf, -np.inf, np.nan]
+    angles = np.concatenate([rng.uniform(-20.0, 20.0, 200_000), edges])
+    with np.errstate(invalid="ignore"):
+        assert _same_bits(_wrapped(angles), wrap(angles))
 
 
 def _reference_pair_log_likelihood(scan: ScanLikelihood, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:

@@ -18,8 +18,16 @@ TWO_PI = 2.0 * np.pi
 
 @numba.njit(cache=True, nogil=True, inline="always")
 def wrap_angle(angle: float) -> float:
-    """``angle`` (rad) wrapped into (-pi, pi] as :func:`agents.localization.constraint.wrap` does it."""
-    return np.pi - np.mod(np.pi - angle, TWO_PI)
+    """``angle`` (rad) wrapped into (-pi, pi] as :func:`agents.localization.constraint.wrap` does it:
+    pi - mod(pi - angle, 2 pi). Within one turn of the range, the modulo is what numpy's (the C
+    library's ``fmod``, exact, then the divisor added to a negative remainder) gives, without the
+    slow ``fmod``."""
+    v = np.pi - angle
+    if 0.0 < v < TWO_PI:
+        return np.pi - v
+    if -TWO_PI < v < 0.0:
+        return np.pi - (v + TWO_PI)
+    return np.pi - np.mod(v, TWO_PI)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
