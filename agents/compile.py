@@ -14,18 +14,19 @@ import numpy as np
 
 
 def compile_agents() -> float:
-    """Run every kernel of the vision and the localization once, on a frame of field and line and a
-    scan of one landmark; return the seconds it took."""
+    """Run every kernel of the vision and the localization once, on a frame of field, line and post and
+    scans of corners; return the seconds it took."""
     from agents.localization.kernels import pose_residuals
     from agents.localization.measurement import MeasurementConfig, ScanLikelihood
     from agents.localization.particle import ParticleLocalizer
     from agents.vision.border import find_border
     from agents.vision.colors import ColorClass
+    from agents.vision.goals import GoalRims, find_posts
     from agents.vision.lines.scan_lines import scan_black_lines
     from agents.vision.percepts import LandmarkPercept
     from agents.vision.segmentation import ColorTable, load_thresholds
     from match.protocol import Displacement
-    from world.field import LandmarkKind, Pose2D
+    from world.field import GoalColor, LandmarkKind, Pose2D
 
     started = time.perf_counter()
     table = ColorTable(load_thresholds())
@@ -34,6 +35,8 @@ def compile_agents() -> float:
     labels[:] = int(ColorClass.GREEN)
     labels[60:63, :] = int(ColorClass.WHITE)
     scan_black_lines(labels, find_border(labels))
+    labels[10:30, 20:23] = int(ColorClass.BLUE)
+    find_posts(labels, GoalColor.BLUE, GoalRims.from_thresholds(table.thresholds).goal_pixels(labels, image, GoalColor.BLUE))
     localizer = ParticleLocalizer(seed=0, initial_pose=Pose2D(0.0, 0.0, 0.0))
     localizer.move(Displacement(0.1, 0.0, 0.1))
     corner = LandmarkPercept(LandmarkKind.L_CORNER, (80.0, 90.0), 0.3, 1.5, "exact")

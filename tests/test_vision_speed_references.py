@@ -19,7 +19,7 @@ from agents.vision.border import FieldBorder, border_line_from_left
 from agents.vision.camera_models import ExactCameraModel
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
-from agents.vision.goals import find_posts, longest_vertical_runs
+from agents.vision.goals import RIM_REACH_PX, GoalRims, find_posts
 from agents.vision.lines.classification import fit_polynomial
 from agents.vision.lines.scan_lines import NEIGHBOURS_ALLOWED, NEIGHBOURS_THESIS, continuity, scan_black_lines
 from agents.vision.kernels import LEVEL_SHIFT
@@ -215,9 +215,20 @@ def test_the_ball_blob_is_the_one_of_the_whole_image_even_among_equal_blobs():
             assert blob[2] == expected[2] and blob[:2] == pytest.approx(expected[:2], abs=1e-12)
 
 
-def reference_posts(labels: np.ndarray, goal: GoalColor) -> list[tuple]:
-    """Post candidates from the runs of the whole image (goals' constants: run 5 px and 30 %, gap 2, 3 base rows)."""
-    mask = labels == (int(ColorClass.BLUE) if goal is GoalColor.BLUE else int(ColorClass.YELLOW))
+def longest_vertical_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Length and bottom row of the longest vertical run of True in each column of ``mask``."""
+    ones = mask.astype(np.int32)
+    total = np.cumsum(ones, axis=0)
+    at_gaps = np.maximum.accumulate(np.where(ones == 0, total, 0), axis=0)
+    run = total - at_gaps  # length of the run ending at each pixel
+    return run.max(axis=0), run.argmax(axis=0)
+
+
+def reference_posts(labels: np.ndarray, goal: GoalColor, mask: np.ndarray | None = None) -> list[tuple]:
+    """Post candidates from the runs of the whole image (goals' constants: run 5 px and 30 %, gap 2, 3 base rows,
+    3 pixels of the goal class) of ``mask`` (default: the goal class's pixels)."""
+    seeds = labels == (int(ColorClass.BLUE) if goal is GoalColor.BLUE else int(ColorClass.YELLOW))
+    mask = seeds if mask is None else mask
     if not mask.any():
         return []
     length, bottom = longest_vertical_runs(mask)
@@ -228,6 +239,8 @@ def reference_posts(labels: np.ndarray, goal: GoalColor) -> list[tuple]:
         base = np.nonzero(mask[max(0, lowest - 2) : lowest + 1, group[0] : group[-1] + 1])[1] + group[0]
         core = int(np.count_nonzero(length[group] >= 0.5 * length[group].max()))
         top = int((bottom[group] - length[group] + 1).min())
+        if np.count_nonzero(seeds[top : lowest + 1, group[0] : group[-1] + 1]) < 3:
+            continue
         base_columns = (float(base.mean()), core, int(base.min()), int(base.max()))
         posts.append((int(group[0]), int(group[-1]), top, lowest, *base_columns))
     return posts
@@ -244,6 +257,37 @@ def test_posts_found_in_the_box_of_the_goal_pixels_are_those_of_the_whole_image(
                 for p in find_posts(labels, goal)
             ]
             assert found == reference_posts(labels, goal)
+
+
+def reference_goal_pixels(labels: np.ndarray, image: np.ndarray, goal_class: int, low: np.ndarray, high: np.ndarray,
+                          reach: int) -> np.ndarray:
+    """The rims' mask with numpy: the goal class's pixels and, within ``reach`` columns of their extent, the
+    white pixels whose colour lies in [low, high]."""
+    mask = labels == goal_class
+    if not mask.any():
+        return mask
+    rows, columns = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    top, bottom = int(rows[0]), int(rows[-1]) + 1
+    left, right = max(0, int(columns[0]) - reach), int(columns[-1]) + 1 + reach
+    window = image[top:bottom, left:right]
+    inside = ((window >= low) & (window <= high)).all(axis=-1)
+    mask[top:bottom, left:right] |= inside & (labels[top:bottom, left:right] == WHITE)
+    return mask
+
+
+def test_the_goal_pixels_with_their_rims_are_the_numpy_ones():
+    rng = np.random.default_rng(8)
+    rims = GoalRims.from_thresholds(load_thresholds())
+    for _ in range(200):
+        labels = random_labels(rng)
+        image = rng.integers(0, 256, (*labels.shape, 3), dtype=np.uint8)
+        for goal, goal_class in ((GoalColor.BLUE, int(ColorClass.BLUE)), (GoalColor.YELLOW, int(ColorClass.YELLOW))):
+            low, high = rims.ranges[goal]
+            expected = reference_goal_pixels(labels, image, goal_class, low, high, RIM_REACH_PX)
+            assert np.array_equal(rims.goal_pixels(labels, image, goal), expected)
+            found = [(p.first_column, p.last_column, p.top_row, p.bottom_row, p.base_u, p.core_width_px,
+                      p.base_first_column, p.base_last_column) for p in find_posts(labels, goal, expected)]
+            assert found == reference_posts(labels, goal, expected)
 
 
 def reference_black_lines(labels: np.ndarray, border: FieldBorder, dist: int, allowed: set[int]) -> list[tuple]:

@@ -37,6 +37,7 @@ import numpy as np
 from agents.vision.camera_models import CameraModel
 from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
+from agents.vision.kernels import goal_mask, post_candidates
 from agents.vision.percepts import LandmarkPercept, PostSide
 from agents.vision.segmentation import ColorThresholds
 from world.camera_model import NAO_CAMERA
@@ -91,17 +92,12 @@ class GoalRims:
         """The post search's mask (H, W) of ``goal``: its class's pixels and, within :data:`RIM_REACH_PX`
         columns of their extent, the pixels labelled white whose colour (``image``, RGB uint8) lies in its
         widened range."""
-        mask = labels == int(GOAL_CLASSES[goal])
-        if goal not in self.ranges or not mask.any():
-            return mask
-        rows, columns = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-        top, bottom = int(rows[0]), int(rows[-1]) + 1
-        left, right = max(0, int(columns[0]) - RIM_REACH_PX), int(columns[-1]) + 1 + RIM_REACH_PX
-        low, high = self.ranges[goal]
-        window = image[top:bottom, left:right]
-        inside = ((window >= low) & (window <= high)).all(axis=-1)
-        mask[top:bottom, left:right] |= inside & (labels[top:bottom, left:right] == int(ColorClass.WHITE))
-        return mask
+        low, high = self.ranges.get(goal, NO_RANGE)
+        return goal_mask(np.ascontiguousarray(labels), np.ascontiguousarray(image), int(GOAL_CLASSES[goal]),
+                         int(ColorClass.WHITE), low, high, RIM_REACH_PX, goal in self.ranges)
+
+
+NO_RANGE = (np.zeros(3, np.int16), np.zeros(3, np.int16))  # the widened range of a goal colour without thresholds
 
 
 @dataclass(frozen=True)
@@ -144,62 +140,20 @@ class GoalTrace:
     posts: tuple[PostBlob, ...] = ()
 
 
-def longest_vertical_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Length and bottom row of the longest vertical run of True in each column of ``mask``."""
-    ones = mask.astype(np.int32)
-    total = np.cumsum(ones, axis=0)
-    at_gaps = np.maximum.accumulate(np.where(ones == 0, total, 0), axis=0)
-    run = total - at_gaps  # length of the run ending at each pixel
-    return run.max(axis=0), run.argmax(axis=0)
-
-
 def find_posts(labels: np.ndarray, goal: GoalColor, goal_pixels: np.ndarray | None = None) -> list[PostBlob]:
     """Post candidates of one goal colour, left to right, before any check: from ``goal_pixels``
     (:meth:`GoalRims.goal_pixels`; default the goal class's pixels), each holding at least
-    :data:`RIM_MIN_SEED_PIXELS` pixels of the goal class."""
-    seeds = labels == int(GOAL_CLASSES[goal])
-    mask = seeds if goal_pixels is None else goal_pixels
-    pixels = np.flatnonzero(mask)
-    if pixels.size == 0:
-        return []
-    # The runs of the box around the goal pixels are those of the whole image (nothing lies outside it).
-    width = labels.shape[1]
-    top, box_bottom = int(pixels[0] // width), int(pixels[-1] // width)
-    pixel_columns = pixels % width
-    left, right = int(pixel_columns.min()), int(pixel_columns.max())
-    length, bottom = longest_vertical_runs(mask[top : box_bottom + 1, left : right + 1])
-    bottom += top
-    is_post = length >= max(MIN_POST_RUN_PX, POST_RUN_FRACTION * length.max())
-    box_columns = np.flatnonzero(is_post)
-    if box_columns.size == 0:
-        return []
-    bounds = [0, *(np.flatnonzero(np.diff(box_columns) >= POST_GAP_PX) + 1).tolist(), len(box_columns)]
-    posts = []
-    for start, end in zip(bounds[:-1], bounds[1:]):
-        group = box_columns[start:end]
-        first, last = int(group[0]) + left, int(group[-1]) + left
-        group_length = length[group]
-        tops = bottom[group] - group_length + 1
-        lowest = int(bottom[group].max())
-        if np.count_nonzero(seeds[int(tops.min()) : lowest + 1, first : last + 1]) < RIM_MIN_SEED_PIXELS:
-            continue  # edge-coloured pixels only: no post of this colour
-        # The base column: the mean column of the post's pixels in its lowest rows.
-        base = mask[max(0, lowest - BASE_ROWS + 1) : lowest + 1, first : last + 1]
-        base_columns = (np.flatnonzero(base) % base.shape[1] + first).tolist()
-        posts.append(
-            PostBlob(
-                goal,
-                first,
-                last,
-                int(tops.min()),
-                lowest,
-                sum(base_columns) / len(base_columns),
-                int(np.count_nonzero(group_length >= CORE_RUN_FRACTION * group_length.max())),
-                min(base_columns),
-                max(base_columns),
-            )
-        )
-    return posts
+    :data:`RIM_MIN_SEED_PIXELS` pixels of the goal class (:func:`agents.vision.kernels.post_candidates`:
+    the columns whose longest vertical run is at least :data:`MIN_POST_RUN_PX` and
+    :data:`POST_RUN_FRACTION` of the longest, split at gaps of :data:`POST_GAP_PX`)."""
+    labels = np.ascontiguousarray(labels)
+    goal_class = int(GOAL_CLASSES[goal])
+    mask = labels == goal_class if goal_pixels is None else np.ascontiguousarray(goal_pixels, bool)
+    rows = post_candidates(labels, mask, goal_class, MIN_POST_RUN_PX, POST_RUN_FRACTION, POST_GAP_PX,
+                           RIM_MIN_SEED_PIXELS, BASE_ROWS, CORE_RUN_FRACTION)
+    # The base column: the mean column of the post's pixels in its lowest rows.
+    return [PostBlob(goal, first, last, top, bottom, base_sum / base_count, core, base_first, base_last)
+            for first, last, top, bottom, base_sum, base_count, core, base_first, base_last in rows.tolist()]
 
 
 def stands_on_field(labels: np.ndarray, post: PostBlob) -> bool:

@@ -111,3 +111,103 @@ def white_runs(labels: np.ndarray, columns: np.ndarray, start: np.ndarray, forbi
                         break
             n += 1
     return scan_index[:n], tops[:n], bottoms[:n], criteria[:n]
+
+
+@numba.njit(cache=True, nogil=True)
+def goal_mask(labels: np.ndarray, image: np.ndarray, goal: int, white: int, low: np.ndarray, high: np.ndarray,
+              reach: int, rims: bool) -> np.ndarray:
+    """The post search's mask (H, W) bool of one goal colour: the pixels labelled ``goal`` and, with
+    ``rims``, within ``reach`` columns of their extent (and within its rows), the pixels labelled
+    ``white`` whose RGB (``image`` (H, W, 3) uint8) lies in [``low``, ``high``] on every channel
+    (:meth:`agents.vision.goals.GoalRims.goal_pixels`)."""
+    height, width = labels.shape
+    mask = np.zeros((height, width), np.bool_)
+    top, bottom, left, right = height, -1, width, -1
+    for r in range(height):
+        for c in range(width):
+            if labels[r, c] == goal:
+                mask[r, c] = True
+                top, bottom = min(top, r), max(bottom, r)
+                left, right = min(left, c), max(right, c)
+    if bottom < 0 or not rims:
+        return mask
+    for r in range(top, bottom + 1):
+        for c in range(max(0, left - reach), min(width - 1, right + reach) + 1):
+            if labels[r, c] == white:
+                inside = True
+                for k in range(3):
+                    inside = inside and low[k] <= image[r, c, k] <= high[k]
+                mask[r, c] = mask[r, c] or inside
+    return mask
+
+
+@numba.njit(cache=True, nogil=True)
+def post_candidates(labels: np.ndarray, mask: np.ndarray, goal: int, min_run: int, run_fraction: float, gap: int,
+                    min_seeds: int, base_rows: int, core_fraction: float) -> np.ndarray:
+    """The post candidates of a goal's ``mask`` (H, W) bool, left to right, as rows (k, 9) int64: first and
+    last column, top and bottom row, the sum and count of the base pixels' columns, the core width, the
+    base's first and last column (see :func:`agents.vision.goals.find_posts`).
+
+    A column is a post's when its longest vertical run of mask pixels is at least ``min_run`` and
+    ``run_fraction`` of the longest of all; post columns ``gap`` or more apart are separate posts; a post
+    holds at least ``min_seeds`` pixels labelled ``goal``; its base is its mask pixels in its lowest
+    ``base_rows`` rows; its core, the columns whose run is at least ``core_fraction`` of its longest."""
+    height, width = mask.shape
+    top, box_bottom, left, right = height, -1, width, -1
+    for r in range(height):
+        for c in range(width):
+            if mask[r, c]:
+                top, box_bottom = min(top, r), max(box_bottom, r)
+                left, right = min(left, c), max(right, c)
+    posts = np.empty((0, 9), np.int64)
+    if box_bottom < 0:
+        return posts
+    columns = right - left + 1
+    length = np.zeros(columns, np.int64)
+    bottom = np.zeros(columns, np.int64)  # the row where each column's longest run ends (its first, on ties)
+    longest = 0
+    for j in range(columns):
+        run, best, best_row = 0, 0, 0
+        for i in range(box_bottom - top + 1):
+            run = run + 1 if mask[top + i, left + j] else 0
+            if run > best:
+                best, best_row = run, i
+        length[j], bottom[j] = best, best_row + top
+        longest = max(longest, best)
+    threshold = max(float(min_run), run_fraction * longest)
+    post_columns = np.flatnonzero(length >= threshold)
+    rows = []
+    start = 0
+    for k in range(1, post_columns.shape[0] + 1):
+        if k < post_columns.shape[0] and post_columns[k] - post_columns[k - 1] < gap:
+            continue
+        group = post_columns[start:k]
+        start = k
+        first, last = group[0] + left, group[-1] + left
+        post_top, lowest, group_longest = height, -1, 0
+        for j in group:
+            post_top = min(post_top, bottom[j] - length[j] + 1)
+            lowest = max(lowest, bottom[j])
+            group_longest = max(group_longest, length[j])
+        seeds = 0
+        for r in range(post_top, lowest + 1):
+            for c in range(first, last + 1):
+                seeds += labels[r, c] == goal
+        if seeds < min_seeds:
+            continue  # edge-coloured pixels only: no post of this colour
+        base_sum, base_count, base_first, base_last = 0, 0, width, -1
+        for r in range(max(0, lowest - base_rows + 1), lowest + 1):
+            for c in range(first, last + 1):
+                if mask[r, c]:
+                    base_sum, base_count = base_sum + c, base_count + 1
+                    base_first, base_last = min(base_first, c), max(base_last, c)
+        core = 0
+        for j in group:
+            core += length[j] >= core_fraction * group_longest
+        rows.append((first, last, post_top, lowest, base_sum, base_count, core, base_first, base_last))
+    if rows:
+        posts = np.empty((len(rows), 9), np.int64)
+        for k in range(len(rows)):
+            for m in range(9):
+                posts[k, m] = rows[k][m]
+    return posts
