@@ -22,6 +22,7 @@ def compile_agents() -> float:
     from agents.vision.border import find_border
     from agents.vision.colors import ColorClass
     from agents.vision.goals import GoalRims, find_posts
+    from agents.vision.lines.formation import form_lines
     from agents.vision.lines.scan_lines import scan_black_lines
     from agents.vision.percepts import LandmarkPercept
     from agents.vision.segmentation import ColorTable, load_thresholds
@@ -34,7 +35,8 @@ def compile_agents() -> float:
     labels = table.segment(image)
     labels[:] = int(ColorClass.GREEN)
     labels[60:63, :] = int(ColorClass.WHITE)
-    scan_black_lines(labels, find_border(labels))
+    black = scan_black_lines(labels, find_border(labels))
+    form_lines(black.column, black.middle, black.length)
     labels[10:30, 20:23] = int(ColorClass.BLUE)
     find_posts(labels, GoalColor.BLUE, GoalRims.from_thresholds(table.thresholds).goal_pixels(labels, image, GoalColor.BLUE))
     localizer = ParticleLocalizer(seed=0, initial_pose=Pose2D(0.0, 0.0, 0.0))

@@ -21,7 +21,16 @@ from agents.vision.colors import ColorClass
 from agents.vision.frame import CameraFrame
 from agents.vision.goals import RIM_REACH_PX, GoalRims, find_posts
 from agents.vision.lines.classification import fit_polynomial
-from agents.vision.lines.scan_lines import NEIGHBOURS_ALLOWED, NEIGHBOURS_THESIS, continuity, scan_black_lines
+from agents.vision.lines.formation import (
+    DIRECTION_DEADBAND_PX,
+    LENGTH_DEVIATION_MIN_PX,
+    LENGTH_DEVIATION_RATIO,
+    MAX_GAP_DISTS,
+    MIN_BLACK_LINES,
+    add_limit,
+    form_lines,
+)
+from agents.vision.lines.scan_lines import DIST, NEIGHBOURS_ALLOWED, NEIGHBOURS_THESIS, continuity, scan_black_lines
 from agents.vision.kernels import LEVEL_SHIFT
 from agents.vision.segmentation import ColorTable, clean_outliers, load_thresholds
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraPosition
@@ -355,3 +364,77 @@ def test_the_segmentation_refuses_what_is_not_an_rgb_image_or_labels():
         table.classify(np.zeros((120, 160), np.uint8))
     with pytest.raises(ValueError, match="uint8"):
         clean_outliers(np.zeros((4, 4), np.int32))
+
+
+# ---- line formation (thesis 4.5.2) as plain Python loops ------------------------------------------------
+
+def _large_deviation(len1: float, len2: float) -> bool:
+    """True when two black-line lengths deviate too much for AddLimit to apply."""
+    short, long_ = (len1, len2) if len1 <= len2 else (len2, len1)
+    return long_ > LENGTH_DEVIATION_RATIO * short and long_ - short >= LENGTH_DEVIATION_MIN_PX
+
+
+def _sign(d: float) -> int:
+    return 0 if abs(d) <= DIRECTION_DEADBAND_PX else (1 if d > 0 else -1)
+
+
+def _get_start(flag: list[int], begin: int = 0) -> int:
+    """GetStart: index of the first black line from ``begin`` not used by a line, or -1."""
+    for i in range(begin, len(flag)):
+        if flag[i] == 0:
+            return i
+    return -1
+
+
+def _get_line(w: list, h: list, n: list, flag: list[int], start: int, dist: int = DIST) -> list[int]:
+    """GetLine (thesis Algorithm 2): the black lines of the line starting at ``start``; flags them."""
+    line = [start]
+    flag[start] = 1
+    current = start
+    direction = 0  # the sign of the last step (0 until the line has two black lines)
+    limit_w = MAX_GAP_DISTS * dist
+    for nxt in range(start + 1, len(w)):
+        if w[nxt] - w[current] >= limit_w:  # criterion 3
+            break
+        if flag[nxt] or w[nxt] == w[current]:  # criteria 1 and 2
+            continue
+        d2 = h[nxt] - h[current]
+        if abs(d2) > add_limit(n[current], n[nxt], w[current], w[nxt], dist) or _large_deviation(n[current], n[nxt]):
+            continue  # criterion 4
+        step = _sign(d2)
+        if direction * step < 0:
+            continue  # criterion 5: the direction changes sign
+        line.append(nxt)
+        flag[nxt] = 1
+        current = nxt
+        direction = step
+    return line
+
+
+def reference_form_lines(column: np.ndarray, middle: np.ndarray, length: np.ndarray) -> list[list[int]]:
+    w, h, n = column.tolist(), middle.tolist(), length.tolist()
+    flag = [0] * len(w)
+    lines, start = [], 0
+    while True:
+        start = _get_start(flag, start)
+        if start < 0:
+            return lines
+        line = _get_line(w, h, n, flag, start)
+        if len(line) >= MIN_BLACK_LINES:
+            lines.append(line)
+
+
+def test_lines_formed_are_those_of_the_python_loops():
+    rng = np.random.default_rng(9)
+    formed = 0
+    for _ in range(300):
+        labels = random_labels(rng)
+        columns = np.arange(0, labels.shape[1], 3)
+        top_rows = np.zeros(len(columns), np.int64)  # the border at the image's top: every run is scanned
+        black = scan_black_lines(labels, FieldBorder(True, columns, top_rows, top_rows))
+        kept = black.kept
+        args = black.column[kept], black.middle[kept], black.length[kept]
+        lines = form_lines(*args)
+        assert lines == reference_form_lines(*args)
+        formed += len(lines)
+    assert formed > 100

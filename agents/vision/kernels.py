@@ -211,3 +211,57 @@ def post_candidates(labels: np.ndarray, mask: np.ndarray, goal: int, min_run: in
             for m in range(9):
                 posts[k, m] = rows[k][m]
     return posts
+
+
+@numba.njit(cache=True, nogil=True)
+def formed_lines(column: np.ndarray, middle: np.ndarray, length: np.ndarray, dist: int, max_gap_dists: int,
+                 min_black_lines: int, deviation_ratio: float, deviation_min_px: int, deadband_px: float
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """GetStart and GetLine (thesis 4.5.2) over the kept black lines (``column`` int, ``middle`` float,
+    ``length`` int, sorted by column then row): the lines as the indices of their black lines, all in one
+    array, and where each line starts in it (see :mod:`agents.vision.lines.formation`)."""
+    count = column.shape[0]
+    flag = np.zeros(count, np.bool_)
+    members = np.empty(count, np.int64)
+    starts = np.empty(count + 1, np.int64)
+    lines, used, begin = 0, 0, 0
+    limit_w = max_gap_dists * dist
+    while True:
+        start = -1
+        for i in range(begin, count):  # GetStart
+            if not flag[i]:
+                start = i
+                break
+        if start < 0:
+            break
+        begin = start
+        first = used
+        members[used] = start
+        used += 1
+        flag[start] = True
+        current, direction = start, 0
+        for following in range(start + 1, count):  # GetLine
+            if column[following] - column[current] >= limit_w:  # criterion 3
+                break
+            if flag[following] or column[following] == column[current]:  # criteria 1 and 2
+                continue
+            d2 = middle[following] - middle[current]
+            len1, len2 = length[current], length[following]
+            limit = (len1 + len2) / 2.0 + (column[following] - column[current]) / dist - 1.0  # AddLimit
+            short, long_ = (len1, len2) if len1 <= len2 else (len2, len1)
+            if abs(d2) > limit or (long_ > deviation_ratio * short and long_ - short >= deviation_min_px):
+                continue  # criterion 4
+            step = 0 if abs(d2) <= deadband_px else (1 if d2 > 0 else -1)
+            if direction * step < 0:
+                continue  # criterion 5: the direction changes sign
+            members[used] = following
+            used += 1
+            flag[following] = True
+            current, direction = following, step
+        if used - first >= min_black_lines:
+            starts[lines] = first
+            lines += 1
+        else:
+            used = first  # too short: dropped, its black lines stay used
+    starts[lines] = used
+    return members[:used], starts[:lines + 1]
