@@ -35,6 +35,7 @@ def compile_agents() -> float:
     labels = table.segment(image)
     labels[:] = int(ColorClass.GREEN)
     labels[60:63, :] = int(ColorClass.WHITE)
+    labels[70:73, :] = int(ColorClass.WHITE)  # a second line: the chains of criterion 4
     black = scan_black_lines(labels, find_border(labels))
     form_lines(black.column, black.middle, black.length)
     labels[10:30, 20:23] = int(ColorClass.BLUE)

@@ -265,3 +265,45 @@ def formed_lines(column: np.ndarray, middle: np.ndarray, length: np.ndarray, dis
             used = first  # too short: dropped, its black lines stay used
     starts[lines] = used
     return members[:used], starts[:lines + 1]
+
+
+@numba.njit(cache=True, nogil=True)
+def chained_runs(scan_index: np.ndarray, top: np.ndarray, bottom: np.ndarray, close_gap: int, smaller_ratio: float,
+                 smaller_min_diff: int) -> np.ndarray:
+    """Criterion 4 of thesis 4.5.1 on black lines (scan column index, top and bottom row; sorted by scan
+    column): which are part of a chain of three close black lines in consecutive scan columns, and not
+    much shorter than a close one in the next column (see :func:`agents.vision.lines.scan_lines.continuity`).
+    Two black lines are close when the second is in the next scan column and their rows overlap or lie
+    within ``close_gap`` + 1 rows."""
+    count = scan_index.shape[0]
+    has_left = np.zeros(count, np.bool_)
+    has_right = np.zeros(count, np.bool_)
+    following = np.empty(count, np.int64)  # the first black line of the next scan column (count: none)
+    j = 0
+    for i in range(count):
+        while j < count and scan_index[j] <= scan_index[i]:
+            j += 1
+        following[i] = j
+    for i in range(count):
+        j = following[i]
+        while j < count and scan_index[j] == scan_index[i] + 1:
+            if max(top[i], top[j]) <= min(bottom[i], bottom[j]) + 1 + close_gap:
+                has_right[i] = True
+                has_left[j] = True
+            j += 1
+    ok = np.zeros(count, np.bool_)
+    ends_chain = np.zeros(count, np.bool_)
+    shorter = np.zeros(count, np.bool_)
+    for i in range(count):
+        j = following[i]
+        length_i = bottom[i] - top[i] + 1
+        while j < count and scan_index[j] == scan_index[i] + 1:
+            if max(top[i], top[j]) <= min(bottom[i], bottom[j]) + 1 + close_gap:
+                ok[i] = ok[i] or has_right[j]  # i -> j -> k
+                ends_chain[j] = ends_chain[j] or has_left[i]  # k -> i -> j
+                length_j = bottom[j] - top[j] + 1
+                shorter[i] = shorter[i] or (length_j * smaller_ratio > length_i and length_j - length_i >= smaller_min_diff)
+            j += 1
+    for i in range(count):
+        ok[i] = (ok[i] or (has_left[i] and has_right[i]) or ends_chain[i]) and not shorter[i]
+    return ok

@@ -25,7 +25,7 @@ import numpy as np
 
 from agents.vision.border import FieldBorder
 from agents.vision.colors import ColorClass
-from agents.vision.kernels import white_runs
+from agents.vision.kernels import chained_runs, white_runs
 
 DIST = 5  # thesis 4.5.1: "every fifth column", called dist
 LONG_RUN_MIN_PX = 3  # thesis 4.5.1 criterion 3: average over black lines "larger than three pixels"
@@ -145,26 +145,7 @@ def scan_black_lines(
 
 
 def continuity(scan_index: np.ndarray, top: np.ndarray, bottom: np.ndarray) -> np.ndarray:
-    """Criterion 4 on black lines (scan column index, top, bottom), sorted by scan column: which pass."""
-    count = len(scan_index)
-    # Candidates of each black line i: the black lines j of the next scan column, as an (i, slot) table.
-    first = np.searchsorted(scan_index, scan_index + 1, side="left")
-    end = np.searchsorted(scan_index, scan_index + 1, side="right")
-    slots = int((end - first).max(initial=0))
-    j = first[:, None] + np.arange(slots)
-    in_next_column = j < end[:, None]
-    j = np.minimum(j, count - 1)
-    # close[i, slot]: j is in the scan column right after i's and their rows overlap or touch.
-    overlap = np.maximum(top[:, None], top[j]) <= np.minimum(bottom[:, None], bottom[j]) + 1 + CLOSE_GAP_PX
-    close = in_next_column & overlap
-    has_right = close.any(axis=1)
-    has_left = np.zeros(count, bool)
-    has_left[j[close]] = True
-    starts_chain = (close & has_right[j]).any(axis=1)  # i -> j -> k
-    ends_chain = np.zeros(count, bool)
-    ends_chain[j[close & has_left[:, None]]] = True  # k -> j -> i
-    ok = starts_chain | (has_left & has_right) | ends_chain
-    length = bottom - top + 1
-    much_longer = (length[j] * SMALLER_RATIO > length[:, None]) & (length[j] - length[:, None] >= SMALLER_MIN_DIFF_PX)
-    ok &= ~(close & much_longer).any(axis=1)
-    return ok
+    """Criterion 4 on black lines (scan column index, top, bottom), sorted by scan column: which pass
+    (:func:`agents.vision.kernels.chained_runs`)."""
+    return chained_runs(np.ascontiguousarray(scan_index, np.int64), np.ascontiguousarray(top, np.int64),
+                        np.ascontiguousarray(bottom, np.int64), CLOSE_GAP_PX, SMALLER_RATIO, SMALLER_MIN_DIFF_PX)
