@@ -70,6 +70,7 @@ RIM_MIN_SEED_PIXELS = 3  # ours: a post holds at least this many pixels of the g
 RIM_REACH_PX = 8  # ours: edge pixels are looked for this far beside the goal-class pixels (a blur's half length)
 
 GOAL_CLASSES = {GoalColor.BLUE: ColorClass.BLUE, GoalColor.YELLOW: ColorClass.YELLOW}
+NO_RANGE = (np.zeros(3, np.int16), np.zeros(3, np.int16))  # the widened range of a goal colour without thresholds
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,9 +96,6 @@ class GoalRims:
         low, high = self.ranges.get(goal, NO_RANGE)
         return goal_mask(np.ascontiguousarray(labels), np.ascontiguousarray(image), int(GOAL_CLASSES[goal]),
                          int(ColorClass.WHITE), low, high, RIM_REACH_PX, goal in self.ranges)
-
-
-NO_RANGE = (np.zeros(3, np.int16), np.zeros(3, np.int16))  # the widened range of a goal colour without thresholds
 
 
 @dataclass(frozen=True)
