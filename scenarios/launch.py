@@ -6,7 +6,10 @@ is a Ctrl-C (``KeyboardInterrupt``) before anything is imported, and one that ar
 command began ends with one line and exit 130: nothing was written yet. That exit skips the
 interpreter's clean-up (``os._exit``): a signal in the middle of importing a native library leaves
 it half initialised, and finalising it can abort the process (a double free) instead of exiting
-130. Once a command runs, :func:`scenarios.cli.main` handles both itself.
+130. A SIGTERM handled while Python runs a finaliser or a callback of its import machinery raises
+where Python only prints the exception and goes on: the handler also records it, and a command
+whose loading saw one does not begin. Once a command runs, :func:`scenarios.cli.main` handles both
+itself.
 """
 
 from __future__ import annotations
@@ -18,8 +21,23 @@ import sys
 EXIT_INTERRUPTED = 130  # as scenarios.common.termination: the shell's code for a Ctrl-C
 
 
+_received: list[int] = []  # the signals received while the command line loaded
+
+
 def _interrupt(signum: int, _frame: object) -> None:
+    _received.append(signum)
     raise KeyboardInterrupt(f"signal {signal.Signals(signum).name}")
+
+
+def _load_command_line():
+    """The command line's entry point, imported; ``KeyboardInterrupt`` when a SIGTERM arrived meanwhile, even
+    one whose exception fell in a callback of the import machinery or a finaliser (where Python prints an
+    exception and goes on)."""
+    from scenarios.cli import main as run_command_line
+
+    if _received:
+        raise KeyboardInterrupt(f"signal {signal.Signals(_received[0]).name}")
+    return run_command_line
 
 
 def main() -> int:
@@ -27,9 +45,7 @@ def main() -> int:
     exit 130 when stopped before the command began)."""
     signal.signal(signal.SIGTERM, _interrupt)
     try:
-        from scenarios.cli import main as run_command_line
-
-        return run_command_line()
+        return _load_command_line()()
     except KeyboardInterrupt:
         print("robotstadium: stopped before the command began; nothing was written", file=sys.stderr)
         sys.stderr.flush()

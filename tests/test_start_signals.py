@@ -55,3 +55,28 @@ def test_a_sigterm_ends_robotstadium_with_130_and_names_only_what_exists(tmp_pat
         assert summary["completed"] is ("after the match" in lines[0]), lines[0]
     else:
         assert lines[0].endswith("nothing was written") and not out.exists(), stderr
+
+
+SWALLOWED_SIGTERM = """
+import os, signal, sys
+from scenarios import launch
+signal.signal(signal.SIGTERM, launch._interrupt)
+class Finalised:
+    def __del__(self):  # a SIGTERM handled here raises where Python only prints the exception
+        os.kill(os.getpid(), signal.SIGTERM)
+        sum(range(1000))
+item = Finalised()
+del item
+sys.argv = ["robotstadium", "match", "--half-seconds", "5", "--out", sys.argv[1]]
+sys.exit(launch.main())
+"""
+
+
+def test_a_sigterm_whose_interrupt_python_ignored_while_loading_still_stops_the_command(tmp_path: Path) -> None:
+    out = tmp_path / "match"
+    process = subprocess.run([sys.executable, "-c", SWALLOWED_SIGTERM, str(out)], capture_output=True, text=True,
+                             timeout=120)
+    assert "Exception ignored" in process.stderr  # the interrupt fell where Python ignores exceptions
+    assert process.returncode == 130, process.stderr
+    assert process.stderr.rstrip().endswith("stopped before the command began; nothing was written")
+    assert not out.exists()
