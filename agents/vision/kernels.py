@@ -1,7 +1,9 @@
-"""The per-pixel passes of the vision in compiled code (numba): the segmentation of a frame.
+"""The vision's loops over pixels and runs in compiled code (numba): the segmentation of a frame, the
+white runs of its scan columns and the chains of criterion 4, line formation, the goal colours'
+masks and their post candidates.
 
-They compute exactly what the array formulations they replace computed (tests compare them with
-pixel-by-pixel references); ``python -m agents.compile`` (run by ``make install``) puts
+They compute exactly what the array formulations and Python loops they replace computed (tests
+compare them with those, kept as references); ``python -m agents.compile`` (run by ``make install``) puts
 their machine code in numba's cache, so no controller process compiles them.
 """
 
