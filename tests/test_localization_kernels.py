@@ -55,7 +55,8 @@ def _reference_pair_log_likelihood(scan: ScanLikelihood, x: np.ndarray, y: np.nd
     return -0.5 * (e_d * e_d + e_b * e_b)
 
 
-def _reference_percept_log_likelihood(scan: ScanLikelihood, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
+def _reference_percept_log_likelihood(scan: ScanLikelihood, x: np.ndarray, y: np.ndarray,
+                                      theta: np.ndarray) -> np.ndarray:
     """The numpy formulation the kernel replaced."""
     pairs = _reference_pair_log_likelihood(scan, x, y, theta)
     best = np.maximum.reduceat(pairs, scan.starts, axis=1)
@@ -74,7 +75,8 @@ SCANS = {
         _percept(LandmarkKind.T_JUNCTION, 1.2, 0.9), _percept(LandmarkKind.GOAL_POST, -0.1, 3.0, goal=GoalColor.BLUE),
         _percept(LandmarkKind.CENTER_CIRCLE, 2.9, 0.4),
     ],
-    "a percept far off the field": [_percept(LandmarkKind.L_CORNER, -3.1, 40.0), _percept(LandmarkKind.GOAL_POST, 0.0, 1e-9)],
+    "a percept far off the field": [_percept(LandmarkKind.L_CORNER, -3.1, 40.0),
+                                    _percept(LandmarkKind.GOAL_POST, 0.0, 1e-9)],
 }
 
 
@@ -90,7 +92,8 @@ def test_percept_log_likelihoods_are_the_numpy_ones(name: str) -> None:
     assert _same_bits(scan.pair_log_likelihood(x, y, theta), _reference_pair_log_likelihood(scan, x, y, theta))
     got = scan.percept_log_likelihood(x, y, theta)
     assert _same_bits(got, _reference_percept_log_likelihood(scan, x, y, theta))
-    assert _same_bits(scan.log_likelihood(x, y, theta), _reference_percept_log_likelihood(scan, x, y, theta).sum(axis=1))
+    expected = _reference_percept_log_likelihood(scan, x, y, theta).sum(axis=1)
+    assert _same_bits(scan.log_likelihood(x, y, theta), expected)
 
 
 def test_a_nan_pose_scores_nan_as_numpy_did() -> None:

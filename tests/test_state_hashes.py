@@ -46,7 +46,8 @@ variants such a processor runs (numpy's kernels are capped and its BLAS's pinned
 @pytest.mark.skipif(not (sys.platform.startswith("linux") and platform.machine() == "x86_64"),
                     reason="the C library's processor variants are chosen on x86-64 Linux")
 def test_the_c_librarys_variants_for_a_processor_without_avx512_step_through_the_same_states(tmp_path: Path) -> None:
-    command = [sys.executable, "-m", "scenarios.cli", "match", "--home", "scripted", "--away", "scripted", "--half-seconds", "15", "--seed", "0",
+    command = [sys.executable, "-m", "scenarios.cli", "match", "--home", "scripted", "--away", "scripted",
+               "--half-seconds", "15", "--seed", "0",
                "--no-shootout", "--no-replay", "--in-process", "--state-hashes", "--out", str(tmp_path / "run")]
     environment = {**os.environ, "GLIBC_TUNABLES": WITHOUT_AVX512}
     subprocess.run(command, env=environment, check=True, capture_output=True, timeout=600,

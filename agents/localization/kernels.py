@@ -127,5 +127,6 @@ def pose_residuals(x: float, y: float, theta: float, lx: np.ndarray, ly: np.ndar
         residuals[i] = (r - distance[i]) / sigma_d[i]
         residuals[k + i] = wrap_angle(np.arctan2(dy, dx) - theta - bearing[i]) / sigma_b
         jacobian[i, 0], jacobian[i, 1], jacobian[i, 2] = (-dx / r) / sigma_d[i], (-dy / r) / sigma_d[i], 0.0 / sigma_d[i]
-        jacobian[k + i, 0], jacobian[k + i, 1], jacobian[k + i, 2] = (dy / r2) / sigma_b, (-dx / r2) / sigma_b, -1.0 / sigma_b
+        jacobian[k + i, 0], jacobian[k + i, 1] = (dy / r2) / sigma_b, (-dx / r2) / sigma_b
+        jacobian[k + i, 2] = -1.0 / sigma_b
     return residuals, jacobian

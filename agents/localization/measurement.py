@@ -69,13 +69,13 @@ class ScanLikelihood:
 
     def pair_log_likelihood(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """(N, P) Gaussian log-likelihood (without constants) of each (percept, possible landmark) pair."""
-        x, y, theta = (np.ascontiguousarray(np.atleast_1d(v), float) for v in (x, y, theta))
+        x, y, theta = _poses(x, y, theta)
         return pair_log_likelihoods(x, y, theta, self.lx, self.ly, self.owner, self.distance, self.sigma_d,
                                     self.bearing, float(self.sigma_b))
 
     def percept_log_likelihood(self, x: np.ndarray, y: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """(N, M) log-likelihood of each percept: best landmark of its set, mixed with outliers."""
-        x, y, theta = (np.ascontiguousarray(np.atleast_1d(v), float) for v in (x, y, theta))
+        x, y, theta = _poses(x, y, theta)
         return percept_log_likelihoods(x, y, theta, self.lx, self.ly, self.owner, self.starts, self.distance,
                                        self.sigma_d, self.bearing, float(self.sigma_b),
                                        float(self.config.outlier_probability))
@@ -94,3 +94,8 @@ class ScanLikelihood:
             k = int(np.argmax(pairs[start : start + len(self.options[m])]))
             found.append((m, self.options[m][k], float(pairs[start + k])))
         return found
+
+
+def _poses(*coordinates: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Pose coordinates (x, y m; theta rad) as the kernels take them: contiguous float64 arrays, at least 1-D."""
+    return tuple(np.ascontiguousarray(np.atleast_1d(v), float) for v in coordinates)

@@ -304,7 +304,8 @@ def chained_runs(scan_index: np.ndarray, top: np.ndarray, bottom: np.ndarray, cl
                 ok[i] = ok[i] or has_right[j]  # i -> j -> k
                 ends_chain[j] = ends_chain[j] or has_left[i]  # k -> i -> j
                 length_j = bottom[j] - top[j] + 1
-                shorter[i] = shorter[i] or (length_j * smaller_ratio > length_i and length_j - length_i >= smaller_min_diff)
+                much_longer = length_j * smaller_ratio > length_i and length_j - length_i >= smaller_min_diff
+                shorter[i] = shorter[i] or much_longer
             j += 1
     for i in range(count):
         ok[i] = (ok[i] or (has_left[i] and has_right[i]) or ends_chain[i]) and not shorter[i]
