@@ -11,7 +11,7 @@ $(STAMP): pyproject.toml Makefile
 	test -x $(PY) || python3 -m venv $(VENV)
 	$(PY) -m pip install --upgrade pip
 	$(PY) -m pip install -e '.[test,ray,browser,learn,docs]'
-	$(PY) -m world.raster.compile
+	$(PY) -m world.compile
 	$(PY) -m agents.compile
 	touch $@
 

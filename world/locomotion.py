@@ -10,11 +10,12 @@ state and applies
 - a yaw torque that follows the reference heading the same way;
 - a capped balance torque that keeps the torso upright: a push or collision that tilts the
   robot beyond what the cap can recover makes it fall;
-- joint position targets from :mod:`world.gaits`, rate-limited.
+- joint position targets of the motion (:func:`world.locomotion_kernels.joint_targets`), rate-limited.
 
 The soles have no friction (see :mod:`world.robot_model`); the drive force is the only
-thing that holds a standing robot in place, up to ``drive_force_max_n``. Plain floats are
-used on purpose: this runs 8 robots x 10 substeps per control step.
+thing that holds a standing robot in place, up to ``drive_force_max_n``. The arithmetic of a
+substep is compiled (:mod:`world.locomotion_kernels`, the same bits as the Python it replaced):
+this runs 8 robots x 5 substeps per control step.
 """
 
 from __future__ import annotations
@@ -27,14 +28,10 @@ import numpy as np
 import pybullet as pb
 
 from world import gaits
+from world import locomotion_kernels as kernels
 from world.camera_model import NAO_HEAD, CameraPosition
-from world.field import normalize_angle
 from world.motions import MOTION_SPECS, Displacement, Motion, MotionNoise
-from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TOTAL_MASS_KG, Joint
-
-
-# Every actuated joint, with the index of its head target (yaw 0, pitch 1) or None for a limb's.
-_JOINT_SLOTS = tuple((joint, {Joint.HEAD_YAW: 0, Joint.HEAD_PITCH: 1}.get(joint)) for joint in ACTUATED_JOINTS)
+from world.robot_model import ACTUATED_JOINTS, TORSO_CENTER_HEIGHT_M, TOTAL_MASS_KG
 
 
 @dataclass(frozen=True)
@@ -123,11 +120,16 @@ class LocomotionController:
     last_finished: FinishedMotion | None = None
     refused: Motion | None = None
     sequence: int = 0
-    ref: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])  # x, y, heading
-    joint_setpoints: dict[Joint, float] = field(default_factory=dict)
-    _yaw_torque: float = 0.0
+    ref: tuple[float, float, float] = (0.0, 0.0, 0.0)  # x, y, heading
+    # the actuated joints' setpoints (rad, in ACTUATED_JOINTS order), once sent (else each starts at its goal)
+    joint_setpoints: np.ndarray = field(default_factory=lambda: np.zeros(kernels.SLOTS))
+    _setpoints_known: bool = False
     _motors_set: bool = False  # motor targets persist in pybullet until changed
     _standing_at: tuple[float, float] | None = None  # head goals at which every setpoint reached STANDING
+    _gains: np.ndarray = field(init=False, repr=False)  # control_gains(config)
+
+    def __post_init__(self) -> None:
+        self._gains = control_gains(self.config)
 
     # ---- commands -------------------------------------------------------------------
 
@@ -138,20 +140,21 @@ class LocomotionController:
         another velocity ends the walk so far (its nominal displacement is reported) and
         goes on at the new velocity without breaking step: same gait phase, same reference.
         """
+        walk = (float(walk[0]), float(walk[1]), float(walk[2]))  # plain floats, as the compiled control takes
         if self.fallen and not motion.is_stand_up:
             self.refused = motion
             return False
         gait_start = None
         if self.active is not None:
             if self.active.motion is motion:
-                if motion is not Motion.WALK or tuple(walk) == self.active.nominal_velocity:
+                if motion is not Motion.WALK or walk == self.active.nominal_velocity:
                     return True
                 gait_start = self.active.start_time_s if self.active.gait_start_s is None else self.active.gait_start_s
             self._finish(now_s, completed=False, reanchor=gait_start is None)
         self.refused = None
         if motion is Motion.WALK:
             real = self.noise.walk_velocity(*walk, rng)
-            self.active = _ActiveMotion(motion, now_s, math.inf, tuple(walk), real, gait_start_s=gait_start)
+            self.active = _ActiveMotion(motion, now_s, math.inf, walk, real, gait_start_s=gait_start)
             if gait_start is not None:
                 return True
         else:
@@ -179,7 +182,7 @@ class LocomotionController:
         return True
 
     def set_head(self, yaw_rad: float, pitch_rad: float) -> None:
-        self.head_yaw_target, self.head_pitch_target = yaw_rad, pitch_rad
+        self.head_yaw_target, self.head_pitch_target = float(yaw_rad), float(pitch_rad)
 
     def resend_motor_targets(self) -> None:
         """Send the joint setpoints again at the next substep (after a restored state)."""
@@ -203,7 +206,7 @@ class LocomotionController:
         self.active = None
         self.fall_side = FallSide.NONE
         self.refused = None
-        self.joint_setpoints = {}
+        self._setpoints_known = False
         self._motors_set = False
         self._standing_at = None
         self._anchor()
@@ -212,8 +215,9 @@ class LocomotionController:
 
     def substep(self, now_s: float, dt_s: float) -> None:
         """Apply forces and joint targets for one physics substep starting at ``now_s``."""
-        position, orientation = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
-        linear, angular = pb.getBaseVelocity(self.body, physicsClientId=self.client)
+        client = self.client
+        position, orientation = pb.getBasePositionAndOrientation(self.body, physicsClientId=client)
+        linear, angular = pb.getBaseVelocity(self.body, physicsClientId=client)
         m = pb.getMatrixFromQuaternion(orientation)  # row-major 3x3
         tilt = math.acos(max(-1.0, min(1.0, m[8])))
         heading = torso_heading(m)
@@ -223,7 +227,7 @@ class LocomotionController:
             active = None
         if active is not None and active.motion.is_stand_up and active.stand_up_works:
             self._play_stand_up(active, now_s)
-            self._drive_joints(gaits.stand_up_targets(now_s - active.start_time_s, active.duration_s), dt_s)
+            self._drive_joints(kernels.STAND_UP, now_s - active.start_time_s, active.duration_s, dt_s)
             return
         if not self.fallen and tilt > self.config.fall_tilt_rad:
             self.fall_side = FallSide.FRONT if m[6] < 0.0 else FallSide.BACK
@@ -231,102 +235,58 @@ class LocomotionController:
                 self._finish(now_s, completed=False)
                 active = None
         if self.fallen:
-            self._drive_joints(gaits.STANDING, dt_s)
+            self._drive_joints(kernels.STANDING, 0.0, 0.0, dt_s)
             return
         vx, vy, omega = active.real_velocity if active is not None else (0.0, 0.0, 0.0)
         if active is not None and active.motion.is_kick and now_s - active.start_time_s >= gaits.KICK_SWING_START_S:
             omega = 0.0
-        self._track(position, linear, angular, heading, (vx, vy, omega), dt_s)
-        self._balance(m, angular)
-        self._drive_joints(self._joint_targets(active, now_s), dt_s, kick_speed=active.kick_speed if active else 1.0)
+        fx, fy, tx, ty, tz, *ref = kernels.control(
+            position[0], position[1], linear[0], linear[1], angular[0], angular[1], angular[2], heading, m[2], m[5],
+            m[8], vx, vy, omega, dt_s, *self.ref, self._gains)
+        self.ref = tuple(ref)
+        # The drive force is applied at the ground below the torso, where feet would grip: a push at
+        # torso height then tips the robot as it would a real one.
+        pb.applyExternalForce(self.body, -1, (fx, fy, 0.0), (position[0], position[1], 0.0), pb.WORLD_FRAME,
+                              physicsClientId=client)
+        pb.applyExternalTorque(self.body, -1, (tx, ty, tz), pb.WORLD_FRAME, physicsClientId=client)
+        mode, mode_s = self._joint_mode(active, now_s)
+        self._drive_joints(mode, mode_s, 0.0, dt_s, kick_speed=active.kick_speed if active else 1.0)
 
-    def _track(self, position, linear, angular, heading, velocity, dt_s) -> None:
-        cfg = self.config
-        vx, vy, omega = velocity
-        ref = self.ref
-        c, s = math.cos(ref[2]), math.sin(ref[2])
-        vwx, vwy = c * vx - s * vy, s * vx + c * vy
-        ref[0] += vwx * dt_s
-        ref[1] += vwy * dt_s
-        ref[2] = normalize_angle(ref[2] + omega * dt_s)
-        ex, ey = ref[0] - position[0], ref[1] - position[1]
-        if math.hypot(ex, ey) > cfg.reanchor_position_m:
-            ref[0], ref[1], ex, ey = position[0], position[1], 0.0, 0.0
-        eh = normalize_angle(ref[2] - heading)
-        if abs(eh) > cfg.reanchor_heading_rad:
-            ref[2], eh = heading, 0.0
-        gain = TOTAL_MASS_KG / cfg.drive_time_constant_s
-        fx = gain * (vwx + cfg.position_gain_per_s * ex - linear[0])
-        fy = gain * (vwy + cfg.position_gain_per_s * ey - linear[1])
-        norm = math.hypot(fx, fy)
-        if norm > cfg.drive_force_max_n:
-            fx, fy = fx * cfg.drive_force_max_n / norm, fy * cfg.drive_force_max_n / norm
-        # Applied at the ground below the torso, where feet would grip: a push at torso
-        # height then tips the robot as it would a real one.
-        grip = (position[0], position[1], 0.0)
-        pb.applyExternalForce(self.body, -1, (fx, fy, 0.0), grip, pb.WORLD_FRAME, physicsClientId=self.client)
-        tz = cfg.yaw_inertia_kgm2 / cfg.drive_time_constant_s * (omega + cfg.heading_gain_per_s * eh - angular[2])
-        self._yaw_torque = max(-cfg.yaw_torque_max_nm, min(cfg.yaw_torque_max_nm, tz))
-
-    def _balance(self, m, angular) -> None:
-        """Capped PD torque turning the torso's z axis back to vertical, plus the yaw torque."""
-        cfg = self.config
-        zx, zy, zz = m[2], m[5], m[8]  # torso z axis in the world frame
-        sin_tilt = math.hypot(zx, zy)
-        tilt = math.atan2(sin_tilt, zz)
-        ax, ay = (zy / sin_tilt, -zx / sin_tilt) if sin_tilt > 1e-9 else (0.0, 0.0)
-        tx = cfg.upright_kp * tilt * ax - cfg.upright_kd * angular[0]
-        ty = cfg.upright_kp * tilt * ay - cfg.upright_kd * angular[1]
-        norm = math.hypot(tx, ty)
-        if norm > cfg.upright_torque_max_nm:
-            tx, ty = tx * cfg.upright_torque_max_nm / norm, ty * cfg.upright_torque_max_nm / norm
-        pb.applyExternalTorque(self.body, -1, (tx, ty, self._yaw_torque), pb.WORLD_FRAME, physicsClientId=self.client)
-
-    def _joint_targets(self, active: _ActiveMotion | None, now_s: float) -> gaits.JointTargets:
+    @staticmethod
+    def _joint_mode(active: _ActiveMotion | None, now_s: float) -> tuple[int, float]:
+        """Which targets the limbs follow (a mode of :func:`~world.locomotion_kernels.joint_targets`) and the
+        time into them (s)."""
         if active is None or active.motion is Motion.STAND:
-            return gaits.STANDING
+            return kernels.STANDING, 0.0
         if active.motion.is_kick:
-            return gaits.kick_targets(active.motion, now_s - active.start_time_s)
+            mode = kernels.KICK_LEFT if active.motion is Motion.KICK_LEFT else kernels.KICK_RIGHT
+            return mode, now_s - active.start_time_s
         if any(abs(v) > 1e-9 for v in active.real_velocity) or active.motion is Motion.WALK:
-            return gaits.walking_targets(active.gait_time(now_s))
-        return gaits.STANDING
+            return kernels.WALKING, active.gait_time(now_s)
+        return kernels.STANDING, 0.0
 
-    def _drive_joints(self, targets: gaits.JointTargets, dt_s: float, kick_speed: float = 1.0) -> None:
-        """Move each joint's setpoint toward its target at the joint's speed; send if changed. A robot whose
-        setpoints all reached the standing targets and these head goals is left as it is (nothing would
-        change)."""
+    def _drive_joints(self, mode: int, mode_s: float, duration_s: float, dt_s: float, kick_speed: float = 1.0) -> None:
+        """Move each joint's setpoint toward its target (the limbs' of motion ``mode`` at ``mode_s``, the head's
+        goals) at the joint's speed; send if changed. A robot whose setpoints all reached the standing targets
+        and these head goals is left as it is (nothing would change)."""
         head_goals = (self.head_yaw_target, self.head_pitch_target)
-        standing = targets is gaits.STANDING
+        standing = mode == kernels.STANDING
         if standing and self._motors_set and self._standing_at == head_goals:
             return
         cfg = self.config
         kicking = self.active is not None and self.active.motion.is_kick
         limb_step = (cfg.kick_joint_speed_radps * kick_speed if kicking else cfg.joint_speed_max_radps) * dt_s
-        head_step = HEAD_SPEED_RADPS * dt_s
-        setpoints = self.joint_setpoints
-        changed = False
-        reached = True
-        for joint, head in _JOINT_SLOTS:
-            if head is None:
-                goal, step = targets.get(joint, 0.0), limb_step
-            else:
-                goal, step = head_goals[head], head_step
-            before = setpoints.get(joint)
-            current = goal if before is None else before
-            if current != goal:
-                current = goal if abs(goal - current) <= step else current + math.copysign(step, goal - current)
-            if before != current:
-                setpoints[joint] = current
-                changed = True
-            reached = reached and current == goal
+        changed, reached = kernels.drive_joints(mode, mode_s, duration_s, *head_goals, limb_step,
+                                                HEAD_SPEED_RADPS * dt_s, self.joint_setpoints, self._setpoints_known)
+        self._setpoints_known = True
         if changed or not self._motors_set:
             pb.setJointMotorControlArray(
                 self.body,
                 _ACTUATED_INDICES,
                 pb.POSITION_CONTROL,
-                targetPositions=[setpoints[j] for j in ACTUATED_JOINTS],
+                targetPositions=self.joint_setpoints.tolist(),
                 forces=[cfg.joint_torque_max_nm] * len(ACTUATED_JOINTS),
-                positionGains=[JOINT_POSITION_GAIN] * len(ACTUATED_JOINTS),
+                positionGains=_POSITION_GAINS,
                 physicsClientId=self.client,
             )
             self._motors_set = True
@@ -368,13 +328,25 @@ class LocomotionController:
     def _anchor(self) -> None:
         position, orientation = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
         m = pb.getMatrixFromQuaternion(orientation)
-        self.ref = [position[0], position[1], torso_heading(m)]
-        self._yaw_torque = 0.0
+        self.ref = (position[0], position[1], torso_heading(m))
 
 
 HEAD_SPEED_RADPS = math.radians(240.0)
 JOINT_POSITION_GAIN = 1.0
 _ACTUATED_INDICES = [int(j) for j in ACTUATED_JOINTS]
+_POSITION_GAINS = [JOINT_POSITION_GAIN] * len(ACTUATED_JOINTS)
+
+
+def control_gains(config: BalanceConfig) -> np.ndarray:
+    """The gains and limits :func:`world.locomotion_kernels.control` takes, from ``config`` (read-only)."""
+    gains = np.array([
+        config.reanchor_position_m, config.reanchor_heading_rad, TOTAL_MASS_KG / config.drive_time_constant_s,
+        config.position_gain_per_s, config.drive_force_max_n, config.yaw_inertia_kgm2 / config.drive_time_constant_s,
+        config.heading_gain_per_s, config.yaw_torque_max_nm, config.upright_kp, config.upright_kd,
+        config.upright_torque_max_nm,
+    ], np.float64)
+    gains.flags.writeable = False
+    return gains
 
 
 def _lying_heading(m: tuple[float, ...]) -> float:

@@ -50,6 +50,9 @@ from world.sensors import (
 log = logging.getLogger(__name__)
 
 MAX_ROBOTS = 8
+# A locomotion controller's fields that never change (its body, configuration and what follows from
+# them): a snapshot leaves them out.
+_CONTROLLER_FIXED = ("client", "body", "config", "noise", "_gains")
 
 
 @dataclass(frozen=True)
@@ -244,7 +247,7 @@ class World:
 
     def save_state(self) -> WorldSnapshot:
         controllers = {
-            rid: {k: copy.deepcopy(v) for k, v in vars(c).items() if k not in ("client", "body", "config", "noise")}
+            rid: {k: copy.deepcopy(v) for k, v in vars(c).items() if k not in _CONTROLLER_FIXED}
             for rid, c in self._controllers.items()
         }
         return WorldSnapshot(
