@@ -117,6 +117,23 @@ def test_near_seeds_is_the_numpy_mask() -> None:
     assert np.array_equal(near_seeds(x, y, theta, seeds, 0.5, 0.5), reference)
 
 
+@pytest.mark.parametrize("radius", [0.5, 1e-3, 0.0, -0.1])
+def test_near_seeds_on_the_circle_is_the_numpy_mask(radius: float) -> None:
+    """Particles on the circle in every direction (their distance rounded either way), NaN and infinite
+    coordinates, a zero and a negative radius: the hypotenuse decides where the squares cannot."""
+    rng = np.random.default_rng(8)
+    n = 1000
+    x, y, theta = rng.normal(0.0, 0.3, n), rng.normal(0.0, 0.3, n), rng.uniform(-0.2, 0.2, n)
+    angles = np.linspace(0.0, 2.0 * math.pi, 600)
+    x[:600], y[:600] = x[999] + radius * np.cos(angles), y[999] + radius * np.sin(angles)
+    x[600:700] = np.nextafter(x[600:700], np.inf)
+    x[700], y[701], x[702] = np.nan, np.inf, -np.inf
+    seeds = np.array([999, 3])
+    reference = (np.hypot(x[None, :] - x[seeds, None], y[None, :] - y[seeds, None]) <= radius) & (
+        np.abs(wrap(theta[None, :] - theta[seeds, None])) <= 0.5)
+    assert np.array_equal(near_seeds(x, y, theta, seeds, radius, 0.5), reference)
+
+
 def test_moved_particles_are_the_numpy_ones() -> None:
     rng = np.random.default_rng(3)
     n = 2000

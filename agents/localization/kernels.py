@@ -85,12 +85,26 @@ def percept_log_likelihoods(x: np.ndarray, y: np.ndarray, theta: np.ndarray, lx:
 def near_seeds(x: np.ndarray, y: np.ndarray, theta: np.ndarray, seeds: np.ndarray, radius_m: float,
                angle_rad: float) -> np.ndarray:
     """(S, N) whether each of N particles lies within ``radius_m`` and ``angle_rad`` of each seed particle
-    (indices ``seeds``)."""
+    (indices ``seeds``).
+
+    The distance is ``np.hypot``'s, as the numpy formulation has it; where the squared distance is farther
+    from the squared radius than both roundings together could move it (a relative 1e-9, against some
+    1e-15), its comparison says the same and the hypotenuse is not needed."""
     out = np.empty((seeds.shape[0], x.shape[0]), np.bool_)
+    squared = radius_m * radius_m
+    surely_in, surely_out = (squared * (1.0 - 1e-9), squared * (1.0 + 1e-9)) if radius_m > 0.0 else (-1.0, np.inf)
     for s in range(seeds.shape[0]):
         sx, sy, st = x[seeds[s]], y[seeds[s]], theta[seeds[s]]
         for i in range(x.shape[0]):
-            out[s, i] = np.hypot(x[i] - sx, y[i] - sy) <= radius_m and abs(wrap_angle(theta[i] - st)) <= angle_rad
+            dx, dy = x[i] - sx, y[i] - sy
+            d2 = dx * dx + dy * dy
+            if d2 < surely_in:
+                inside = True
+            elif d2 > surely_out:
+                inside = False
+            else:
+                inside = np.hypot(dx, dy) <= radius_m
+            out[s, i] = inside and abs(wrap_angle(theta[i] - st)) <= angle_rad
     return out
 
 
