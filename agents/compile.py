@@ -14,13 +14,15 @@ import numpy as np
 
 
 def compile_agents() -> float:
-    """Run every kernel of the vision and the localization once, on a frame of field, line and post and
-    scans of corners; return the seconds it took."""
+    """Run every kernel of the vision and the localization once, on a frame of field, line and post, pixels
+    located on the ground and scans of corners; return the seconds it took."""
     from agents.localization.kernels import pose_residuals
     from agents.localization.measurement import MeasurementConfig, ScanLikelihood
     from agents.localization.particle import ParticleLocalizer
     from agents.vision.border import find_border
+    from agents.vision.camera_models import ExactCameraModel
     from agents.vision.colors import ColorClass
+    from agents.vision.frame import CameraFrame
     from agents.vision.goals import GoalRims, find_posts
     from agents.vision.lines.formation import form_lines
     from agents.vision.lines.scan_lines import scan_black_lines
@@ -41,6 +43,9 @@ def compile_agents() -> float:
     labels[10:30, 20:23] = int(ColorClass.BLUE)
     rims = GoalRims.from_thresholds(table.thresholds)
     find_posts(labels, GoalColor.BLUE, rims.goal_pixels(labels, image, GoalColor.BLUE))
+    model = ExactCameraModel()
+    for accelerometer in (None, (3.0, 0.0, 9.0)):  # upright, and tilted (another rotation)
+        model.locate(CameraFrame(image, 0.0, 0.3, accelerometer_mps2=accelerometer), np.arange(3.0), np.arange(3.0))
     localizer = ParticleLocalizer(seed=0, initial_pose=Pose2D(0.0, 0.0, 0.0))
     localizer.move(Displacement(0.1, 0.0, 0.1))
     corner = LandmarkPercept(LandmarkKind.L_CORNER, (80.0, 90.0), 0.3, 1.5, "exact")

@@ -198,6 +198,30 @@ def test_locate_and_ground_point_agree_with_pixel_rays():
         assert point == pytest.approx(expected, rel=1e-9, abs=1e-12)
 
 
+def test_locate_is_the_numpy_formulation_to_the_bit():
+    """The compiled ground points are what the array code they replaced computed: the rays of
+    ``rotated_pixel_rays``, met with the ground, their bearings and distances (NaN above the horizon)."""
+    rng = np.random.default_rng(5)
+    model = ExactCameraModel()
+    for trial in range(200):
+        frame = random_frame(rng)
+        shape = (40,) if trial % 2 else (5, 8)
+        u, v = rng.uniform(-0.5, 159.5, shape), rng.uniform(-0.5, 119.5, shape)
+        if trial % 3 == 0:
+            u, v = np.round(u), np.round(v)
+        rotation, position = model.camera_pose(frame)
+        ray_x, ray_y, ray_z = NAO_CAMERA.rotated_pixel_rays(u, v, rotation)
+        px, py, pz = position.tolist()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(ray_z < -1e-9, -pz / ray_z, np.nan)
+        gx, gy = px + t * ray_x, py + t * ray_y
+        ground = model.locate(frame, u, v)
+        assert ground.bearing_rad.tobytes() == np.arctan2(gy, gx).tobytes()
+        assert ground.distance_m.tobytes() == np.hypot(gx, gy).tobytes()
+    scalar, array = model.locate(frame, 80.0, 100.0), model.locate(frame, np.array([80.0]), np.array([100.0]))
+    assert scalar.distance_m.shape == () and scalar.distance_m.tobytes() == array.distance_m.tobytes()
+
+
 def reference_largest_blob(mask: np.ndarray) -> tuple[float, float, int] | None:
     """The ball's largest 8-connected blob, labelling the whole image (its centroid, without the cut-circle fit)."""
     count, _, stats, centroids = cv2.connectedComponentsWithStats(mask.astype(np.uint8), connectivity=8)

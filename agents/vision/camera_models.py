@@ -27,6 +27,7 @@ import numpy as np
 
 from agents.vision.errors import VisionConfigError
 from agents.vision.frame import CameraFrame
+from agents.vision.kernels import ground_points
 from world.camera_model import NAO_CAMERA, NAO_HEAD, CameraIntrinsics, CameraPosition, HeadKinematics
 
 GRAVITY_MPS2 = 9.81
@@ -112,14 +113,14 @@ class ExactCameraModel:
         return level_camera_pose(self.head, yaw, pitch, frame.camera, accel, self.min_tilt_rad)
 
     def locate(self, frame: CameraFrame, u: np.ndarray, v: np.ndarray) -> GroundPoints:
+        """Each pixel's ray (:meth:`~world.camera_model.CameraIntrinsics.rotated_pixel_rays`) met with the
+        ground, in compiled code (:func:`agents.vision.kernels.ground_points`)."""
         rotation, position = self.camera_pose(frame)
-        ray_x, ray_y, ray_z = self.intrinsics.rotated_pixel_rays(np.asarray(u, float), np.asarray(v, float), rotation)
-        px, py, pz = position.tolist()
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(ray_z < -1e-9, -pz / ray_z, np.nan)
-        gx = px + t * ray_x
-        gy = py + t * ray_y
-        return GroundPoints(np.arctan2(gy, gx), np.hypot(gx, gy))
+        u, v = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))
+        cx, cy = self.intrinsics.principal_point
+        bearing, distance = ground_points(np.ascontiguousarray(u.reshape(-1)), np.ascontiguousarray(v.reshape(-1)),
+                                          rotation, position, float(cx), float(cy), float(self.intrinsics.focal_px))
+        return GroundPoints(bearing.reshape(u.shape), distance.reshape(u.shape))
 
     def project(self, frame: CameraFrame, points_torso: np.ndarray) -> np.ndarray:
         """Pixels (N, 2) of points (N, 3) given in the level torso frame; NaN behind the camera."""

@@ -1,6 +1,6 @@
 """The vision's loops over pixels and runs in compiled code (numba): the segmentation of a frame, the
 white runs of its scan columns and the chains of criterion 4, line formation, the goal colours'
-masks and their post candidates.
+masks and their post candidates, and where pixels' rays meet the ground.
 
 They compute exactly what the array formulations and Python loops they replace computed (tests
 compare them with those, kept as references); ``python -m agents.compile`` (run by ``make install``) puts
@@ -310,3 +310,32 @@ def chained_runs(scan_index: np.ndarray, top: np.ndarray, bottom: np.ndarray, cl
     for i in range(count):
         ok[i] = (ok[i] or (has_left[i] and has_right[i]) or ends_chain[i]) and not shorter[i]
     return ok
+
+
+@numba.njit(cache=True, nogil=True)
+def ground_points(u: np.ndarray, v: np.ndarray, rotation: np.ndarray, position: np.ndarray, cx: float, cy: float,
+                  focal_px: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bearings (rad) and distances (m) in a frame on the ground of where the rays through pixels (``u``,
+    ``v``) (1-D) meet the ground: the camera at ``position`` (m) turned by ``rotation`` (3x3, camera ->
+    that frame), principal point (``cx``, ``cy``) px, focal length ``focal_px``; NaN for a ray that does
+    not point down. The operations of :meth:`world.camera_model.CameraIntrinsics.rotated_pixel_rays` and
+    :meth:`agents.vision.camera_models.ExactCameraModel.locate`, element by element."""
+    n = u.shape[0]
+    bearing, distance = np.empty(n), np.empty(n)
+    r00, r01, r02 = rotation[0, 0], rotation[0, 1], rotation[0, 2]
+    r10, r11, r12 = rotation[1, 0], rotation[1, 1], rotation[1, 2]
+    r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
+    px, py, pz = position[0], position[1], position[2]
+    for i in range(n):
+        x = (u[i] + 0.5 - cx) / focal_px
+        y = (v[i] + 0.5 - cy) / focal_px
+        norm = np.sqrt(x * x + y * y + 1.0)
+        ray_x = (r00 * x + r01 * y + r02) / norm
+        ray_y = (r10 * x + r11 * y + r12) / norm
+        ray_z = (r20 * x + r21 * y + r22) / norm
+        t = -pz / ray_z if ray_z < -1e-9 else np.nan
+        gx = px + t * ray_x
+        gy = py + t * ray_y
+        bearing[i] = np.arctan2(gy, gx)
+        distance[i] = np.hypot(gx, gy)
+    return bearing, distance
