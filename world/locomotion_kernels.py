@@ -5,9 +5,9 @@ ending, falls, stand-ups); :func:`control` computes what it applies in the subst
 force and yaw torque that make the torso follow its reference pose, the balance torque, and the
 joint setpoints moved toward the motion's targets. Every operation is the one the Python
 controller made, in the same order, with the same C library functions, so a match plays to the
-bit as it did: :func:`py_hypot` is CPython's two-argument ``math.hypot`` (its ``vector_norm``,
-not the C library's ``hypot``), :func:`py_max` and :func:`py_min` are Python's ``max`` and ``min``
-of two floats. :func:`joint_targets` holds the motions' targets as functions of time (their
+bit as it did: :func:`py_hypot` is the two-argument ``math.hypot`` of CPython 3.11 (its
+``vector_norm``, not the C library's ``hypot``; later versions round the same sums another way),
+:func:`py_max` and :func:`py_min` are Python's ``max`` and ``min`` of two floats. :func:`joint_targets` holds the motions' targets as functions of time (their
 constants are in :mod:`world.gaits`).
 
 Joint slots are :data:`world.robot_model.ACTUATED_JOINTS` in order: head yaw, head pitch, left
@@ -51,8 +51,8 @@ def py_min(a, b):
 
 @njit(cache=True)
 def py_hypot(x, y):
-    """CPython's ``math.hypot(x, y)`` (``vector_norm`` of two coordinates): exact squares by Dekker's split,
-    compensated sums and one correction of the square root."""
+    """CPython 3.11's ``math.hypot(x, y)`` (``vector_norm`` of two coordinates): exact squares by Dekker's
+    split, compensated sums and one correction of the square root."""
     a, b = abs(x), abs(y)
     if math.isinf(a) or math.isinf(b):
         return math.inf
