@@ -182,7 +182,7 @@ def _bits(values) -> bytes:
 
 def test_py_hypot_is_cpython_311s_hypot_to_the_bit():
     """The kernel's hypot is CPython 3.11's: against a port of it, and against ``math.hypot`` on 3.11 (later
-    versions round the same sums another way, now and then a bit apart)."""
+    versions compute it another way)."""
     rng = np.random.default_rng(0)
     pairs = []
     for scale in (1e-300, 1e-9, 1e-3, 1.0, 50.0, 1e200):

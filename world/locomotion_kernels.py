@@ -6,9 +6,10 @@ force and yaw torque that make the torso follow its reference pose, the balance 
 joint setpoints moved toward the motion's targets. Every operation is the one the Python
 controller made, in the same order, with the same C library functions, so a match plays to the
 bit as it did: :func:`py_hypot` is the two-argument ``math.hypot`` of CPython 3.11 (its
-``vector_norm``, not the C library's ``hypot``; later versions round the same sums another way),
-:func:`py_max` and :func:`py_min` are Python's ``max`` and ``min`` of two floats. :func:`joint_targets` holds the motions' targets as functions of time (their
-constants are in :mod:`world.gaits`).
+``vector_norm``, not the C library's ``hypot``; later versions compute it another way),
+:func:`py_max` and :func:`py_min` are Python's ``max`` and ``min`` of two floats.
+:func:`joint_targets` holds the motions' targets as functions of time (their constants are in
+:mod:`world.gaits`).
 
 Joint slots are :data:`world.robot_model.ACTUATED_JOINTS` in order: head yaw, head pitch, left
 and right shoulder, left hip, knee, ankle, right hip, knee, ankle.
