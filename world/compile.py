@@ -7,12 +7,9 @@ per install or change of these sources; later processes load the cached code).
 
 from __future__ import annotations
 
-import logging
 import time
 
 import numpy as np
-
-log = logging.getLogger(__name__)
 
 
 def compile_world() -> float:
@@ -43,7 +40,7 @@ def compile_locomotion() -> None:
     from world import locomotion_kernels as kernels
     from world.locomotion import BalanceConfig, control_gains
 
-    kernels.control(*([0.0] * 15), 0.0, 0.0, 0.0, control_gains(BalanceConfig()))
+    kernels.control(*([0.0] * 18), control_gains(BalanceConfig()))
     setpoints = np.zeros(kernels.SLOTS)
     for mode in (kernels.STANDING, kernels.WALKING, kernels.KICK_LEFT, kernels.KICK_RIGHT, kernels.STAND_UP):
         for known in (False, True):

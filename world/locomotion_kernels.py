@@ -23,12 +23,18 @@ import numpy as np
 from numba import njit
 
 from world import gaits
-from world.robot_model import ACTUATED_JOINTS
+from world.robot_model import ACTUATED_JOINTS, Joint
 
 # The motions' joint targets (mode for :func:`joint_targets`).
 STANDING, WALKING, KICK_LEFT, KICK_RIGHT, STAND_UP = 0, 1, 2, 3, 4
-SLOTS = 10  # actuated joints
-_HEAD_SLOTS = 2  # yaw, pitch: driven toward the head goals, not the motion's targets
+SLOTS = len(ACTUATED_JOINTS)
+_HEAD_YAW, _HEAD_PITCH = ACTUATED_JOINTS.index(Joint.HEAD_YAW), ACTUATED_JOINTS.index(Joint.HEAD_PITCH)
+_HEAD_SLOTS = 2  # yaw, pitch first: driven toward the head goals, not the motion's targets
+_L_SHOULDER, _R_SHOULDER = ACTUATED_JOINTS.index(Joint.L_SHOULDER), ACTUATED_JOINTS.index(Joint.R_SHOULDER)
+_L_HIP, _R_HIP = ACTUATED_JOINTS.index(Joint.L_HIP), ACTUATED_JOINTS.index(Joint.R_HIP)  # knee and ankle follow
+assert (_HEAD_YAW, _HEAD_PITCH) == (0, 1) and all(
+    ACTUATED_JOINTS[hip + 1] == knee and ACTUATED_JOINTS[hip + 2] == ankle
+    for hip, knee, ankle in ((_L_HIP, Joint.L_KNEE, Joint.L_ANKLE), (_R_HIP, Joint.R_KNEE, Joint.R_ANKLE)))
 _STANDING = np.array([gaits.STANDING.get(joint, 0.0) for joint in ACTUATED_JOINTS])
 _KICK_KEYS = np.array(gaits.KICK_KEYS, np.float64)
 _STEP_PERIOD_S = gaits.STEP_PERIOD_S
@@ -128,7 +134,7 @@ def normalize_angle(angle_rad):
 
 @njit(cache=True)
 def joint_targets(mode, t_s, duration_s, out):
-    """The limbs' targets (rad) of motion ``mode``, ``t_s`` into it, into ``out`` (slots 2-9; the head's are
+    """The limbs' targets (rad) of motion ``mode``, ``t_s`` into it, into their slots of ``out`` (the head's are
     left alone); ``duration_s``: the stand-up's duration.
 
     ``STANDING``: :data:`world.gaits.STANDING`. ``WALKING``: alternating steps of
@@ -140,24 +146,24 @@ def joint_targets(mode, t_s, duration_s, out):
         out[k] = _STANDING[k]
     if mode == WALKING:
         phase = (t_s % _STEP_PERIOD_S) / _STEP_PERIOD_S
-        hip = 4 if phase < 0.5 else 7
+        hip = _L_HIP if phase < 0.5 else _R_HIP
         amount = _STEP_LIFT_RAD * math.sin(math.pi * ((phase * 2) % 1.0))
         out[hip], out[hip + 1], out[hip + 2] = -amount, 2 * amount, -amount
         swing = 0.25 * math.sin(2 * math.pi * phase)
-        out[2] = _REST + swing
-        out[3] = _REST - swing
+        out[_L_SHOULDER] = _REST + swing
+        out[_R_SHOULDER] = _REST - swing
     elif mode == KICK_LEFT or mode == KICK_RIGHT:
         hip_angle, knee_angle, ankle_angle = _kick_keyframe(t_s)
-        hip = 4 if mode == KICK_LEFT else 7
+        hip = _L_HIP if mode == KICK_LEFT else _R_HIP
         out[hip], out[hip + 1], out[hip + 2] = hip_angle, knee_angle, ankle_angle
-        out[3 if mode == KICK_LEFT else 2] = _REST - 0.6 * (hip_angle - 0.0)
+        out[_R_SHOULDER if mode == KICK_LEFT else _L_SHOULDER] = _REST - 0.6 * (hip_angle - 0.0)
     elif mode == STAND_UP:
         s = py_min(py_max(t_s / duration_s, 0.0), 1.0)
         tuck = math.sin(math.pi * s)
-        for hip in (4, 7):
+        for hip in (_L_HIP, _R_HIP):
             out[hip], out[hip + 1], out[hip + 2] = -0.8 * tuck, 1.4 * tuck, -0.6 * tuck
-        out[2] = _REST - 1.2 * tuck
-        out[3] = _REST - 1.2 * tuck
+        out[_L_SHOULDER] = _REST - 1.2 * tuck
+        out[_R_SHOULDER] = _REST - 1.2 * tuck
 
 
 @njit(cache=True)
@@ -184,7 +190,7 @@ def drive_joints(mode, mode_s, duration_s, head_yaw, head_pitch, limb_step, head
     (whether any setpoint changed, whether all reached their goal)."""
     goals = np.empty(SLOTS)
     joint_targets(mode, mode_s, duration_s, goals)
-    goals[0], goals[1] = head_yaw, head_pitch
+    goals[_HEAD_YAW], goals[_HEAD_PITCH] = head_yaw, head_pitch
     changed = not known
     reached = True
     for k in range(SLOTS):
